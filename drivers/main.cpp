@@ -1,1 +1,85 @@
-int main() { return 0; }
+// granpack: the command-line entry point. A thin main: parse the command line with CLI11,
+// initialise MPI, call the library, map exceptions to exit codes (docs/cli.md).
+#include <mpi.h>
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "granpack/core/error.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/prep/run_deck.h"
+
+namespace {
+
+int rank_of(MPI_Comm comm) {
+  int r = 0;
+  MPI_Comm_rank(comm, &r);
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  const bool root = rank_of(MPI_COMM_WORLD) == 0;
+
+  CLI::App app{"granpack " GRANPACK_VERSION
+               ": model granular packings - assembly, equilibration, analysis, rigidity.\n"
+               "Run under MPI, e.g.  mpirun -np 2 granpack run DECK.toml -o out/A",
+               "granpack"};
+  app.set_version_flag("--version", "granpack " GRANPACK_VERSION);
+  app.require_subcommand(1);
+
+  granpack::RunOptions run;
+  std::string restart;
+  auto* run_cmd = app.add_subcommand("run", "assemble/equilibrate a packing as a deck says");
+  run_cmd->add_option("deck", run.deck, "TOML deck (docs/deck.md)")->required();
+  run_cmd->add_option("-o,--output", run.output_dir, "output directory (default out/<deck stem>)");
+  run_cmd->add_option("--restart", restart, "continue from this checkpoint file");
+  run_cmd->add_flag("-q,--quiet", run.quiet, "no progress lines (batch mode)");
+
+  std::string file, json_out;
+  auto* analyze_cmd = app.add_subcommand("analyze", "geometric and mechanical analysis of a packing");
+  analyze_cmd->add_option("file", file, "configuration file (.h5)")->required();
+  analyze_cmd->add_option("--json", json_out, "also write the results as JSON to this file");
+  auto* stiffness_cmd = app.add_subcommand("stiffness", "rigidity, mechanisms and elastic moduli");
+  stiffness_cmd->add_option("file", file, "configuration file (.h5)")->required();
+  stiffness_cmd->add_option("--json", json_out, "also write the results as JSON to this file");
+  auto* info_cmd = app.add_subcommand("info", "what a granpack HDF5 file holds");
+  info_cmd->add_option("file", file, "granpack HDF5 file")->required();
+
+  int code = granpack::kExitOk;
+  try {
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      int c = root ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 1);
+      code = c == 0 ? granpack::kExitOk : granpack::kExitBadInput;
+      MPI_Finalize();
+      return code;
+    }
+    if (*run_cmd) {
+      if (!restart.empty()) run.restart = restart;
+      code = granpack::run_deck(MPI_COMM_WORLD, run);
+    } else if (*info_cmd) {
+      std::string text = granpack::describe_file(MPI_COMM_WORLD, file);
+      if (root) std::cout << text;
+    } else if (*analyze_cmd) {
+      throw granpack::NotImplemented("'granpack analyze' is not implemented yet (issue 5)");
+    } else if (*stiffness_cmd) {
+      throw granpack::NotImplemented("'granpack stiffness' is not implemented yet (issue 6)");
+    }
+  } catch (const granpack::Error& e) {
+    // granpack errors are collective by construction (docs/ARCHITECTURE.md, "Errors"): every
+    // rank arrives here with the same message, rank 0 says it once.
+    if (root) std::cerr << "granpack: error: " << e.what() << std::endl;
+    code = e.exit_code();
+  } catch (const std::exception& e) {
+    // Not known to be collective: the other ranks may be waiting in a collective call.
+    std::cerr << "granpack: fatal error on rank " << rank_of(MPI_COMM_WORLD) << ": " << e.what()
+              << std::endl;
+    MPI_Abort(MPI_COMM_WORLD, granpack::kExitFailure);
+  }
+  MPI_Finalize();
+  return code;
+}

@@ -1,0 +1,25 @@
+#pragma once
+// Global reductions of scalars: the only communication stages and criteria need.
+#include <mpi.h>
+
+#include <cstdint>
+
+namespace granpack {
+
+inline double global_sum(MPI_Comm comm, double x) {
+  double y = 0;
+  MPI_Allreduce(&x, &y, 1, MPI_DOUBLE, MPI_SUM, comm);
+  return y;
+}
+inline std::int64_t global_sum(MPI_Comm comm, std::int64_t x) {
+  std::int64_t y = 0;
+  MPI_Allreduce(&x, &y, 1, MPI_INT64_T, MPI_SUM, comm);
+  return y;
+}
+inline double global_max(MPI_Comm comm, double x) {
+  double y = 0;
+  MPI_Allreduce(&x, &y, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return y;
+}
+
+}  // namespace granpack

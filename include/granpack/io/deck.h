@@ -1,0 +1,105 @@
+#pragma once
+// The deck: a TOML file declaring the sample, the material, the numerics, the output and an
+// ordered list of stages. parse_deck() validates everything before any work is done; every
+// key is documented in docs/deck.md (units SI).
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace granpack {
+
+struct SampleSpec {
+  int dimension = 3;
+  std::int64_t n = 0;
+  double diameter = 0;  ///< a: the (largest) grain diameter, m
+  std::string distribution = "monodisperse";  ///< or "uniform": d uniform in [ratio a, a]
+  double min_diameter_ratio = 0.5;
+  std::uint64_t seed = 1;
+};
+
+struct MaterialSpec {
+  double density = 0;                 ///< kg/m^3 (2D: per unit thickness, kg/m^3 x 1 m)
+  std::string normal_law = "hertz";   ///< "hertz" or "linear"
+  double young_modulus = 0;           ///< E, Pa (hertz)
+  double poisson_ratio = 0;           ///< nu (hertz; also sets K_T/K_N)
+  double normal_stiffness = 0;        ///< K_N, N/m (linear)
+  double tangential_stiffness_ratio = 0;  ///< K_T/K_N (linear; hertz uses (2-2nu)/(2-nu))
+  double friction = 0;                ///< mu, may be inf
+  double damping = 0;                 ///< zeta, fraction of critical damping
+};
+
+struct NumericsSpec {
+  double time_step_fraction = 0.02;  ///< dt / (contact duration of the stiffest contact)
+  double skin = 0.1;                 ///< Verlet skin, fraction of the largest diameter
+};
+
+struct OutputSpec {
+  std::int64_t log_every = 1000;  ///< steps between progress lines
+  bool quiet = false;
+  std::int64_t checkpoint_every_steps = 0;   ///< 0: off
+  double checkpoint_every_seconds = 3600.0;  ///< wall seconds; 0: off
+};
+
+struct Tolerances {  ///< [AR] sec. III criteria, dimensionless
+  double force = 1e-4;    ///< max net force on a grain / (a^2 P)
+  double stress = 1e-4;   ///< max |sigma_aa - P| / P
+  double kinetic = 1e-8;  ///< kinetic energy per grain / (P a^3)
+};
+
+struct LatticeStage {
+  std::string lattice;  ///< "fcc" (3D) or "hex" (2D triangular)
+  double phi = 0;       ///< solid fraction of the lattice
+  std::vector<std::int64_t> cells;  ///< unit cells per axis (n = 4 prod in fcc, 2 prod in hex)
+};
+struct RandomStage {
+  double phi = 0;  ///< solid fraction of the non-overlapping random placement
+};
+struct CompressStage {
+  double pressure = 0;                  ///< Pa
+  std::optional<double> inertia_max;    ///< cap on I = eps_dot sqrt(m/(aP)), eq. (23)
+  double cell_mass = 1.0;               ///< M / (sum of grain masses)
+  std::int64_t max_steps = 0;           ///< 0: no limit
+  Tolerances tolerance;
+};
+struct SetStage {
+  std::optional<double> friction, damping;
+};
+struct WriteStage {
+  std::string file;  ///< relative to the output directory
+};
+
+using StageParams = std::variant<LatticeStage, RandomStage, CompressStage, SetStage, WriteStage>;
+
+struct StageSpec {
+  int index = 0;     ///< 0-based position in the deck
+  std::string kind;  ///< "lattice", "random", "compress", "set", "write"
+  std::string name;  ///< user label (defaults to kind)
+  StageParams params;
+};
+
+struct Deck {
+  std::string file;  ///< as given by the user, for messages
+  std::string text;  ///< the deck's full text (stored in every output file)
+  SampleSpec sample;
+  MaterialSpec material;
+  NumericsSpec numerics;
+  OutputSpec output;
+  std::vector<StageSpec> stages;
+};
+
+/// Every stage kind the deck language knows, in documentation order.
+const std::vector<std::string>& stage_kinds();
+
+/// Parses and validates a deck. Throws InputError (exit code 2) naming the file, the key with
+/// its table path and line, the value and what is allowed. Does no I/O: under MPI the caller
+/// reads the file on one rank and broadcasts its text, so every rank validates identically.
+Deck parse_deck(const std::string& text, const std::string& file_name);
+
+/// Reads the file and parses it; a missing or unreadable file is an InputError too.
+Deck load_deck(const std::filesystem::path& path);
+
+}  // namespace granpack

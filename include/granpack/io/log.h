@@ -1,0 +1,31 @@
+#pragma once
+// The human log: rank 0 writes to the terminal and to DIR/log.txt; other ranks stay silent.
+// Levels: info (always, unless the caller is quiet), progress (suppressed by quiet mode),
+// warn (always). Every line is flushed so that a killed job leaves a complete log.
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+namespace granpack {
+
+class Log {
+public:
+  /// `is_root`: whether this rank writes; `quiet`: drop progress lines.
+  Log(bool is_root, bool quiet) : root_(is_root), quiet_(quiet) {}
+  /// Also append every line to this file (rank 0 only; created or truncated).
+  void open_file(const std::string& path);
+  void info(const std::string& line) { emit(line, false); }
+  void progress(const std::string& line) {
+    if (!quiet_) emit(line, false);
+  }
+  void warn(const std::string& line) { emit("warning: " + line, true); }
+  bool quiet() const { return quiet_; }
+
+private:
+  void emit(const std::string& line, bool to_stderr);
+  bool root_, quiet_;
+  std::unique_ptr<std::ofstream> file_;
+};
+
+}  // namespace granpack

@@ -1,0 +1,19 @@
+#pragma once
+// The stages a deck chains (docs/deck.md). Each function runs one stage on every rank
+// (collective on ctx.world) and returns its report.json entry.
+#include "granpack/io/deck.h"
+#include "granpack/prep/run_context.h"
+
+namespace granpack {
+
+/// Whether this version can execute a stage kind (the deck language knows more kinds).
+bool stage_implemented(const std::string& kind);
+
+template <int dim> StageReport run_lattice(RunContext<dim>& ctx, const LatticeStage& p);
+template <int dim> StageReport run_set(RunContext<dim>& ctx, const SetStage& p);
+template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage& p);
+
+/// Writes the current state as an HDF5 configuration file (with its XDMF sidecar).
+template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file);
+
+}  // namespace granpack

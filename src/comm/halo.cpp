@@ -1,0 +1,109 @@
+#include "granpack/comm/halo.h"
+
+#include <mpi.h>
+
+#include "granpack/comm/particle_packing.h"
+#include "granpack/core/error.h"
+
+namespace granpack {
+
+namespace {
+/// Exchanges variable-length double buffers with two (possibly equal, possibly self) ranks.
+std::vector<double> sendrecv(MPI_Comm comm, const std::vector<double>& out, int to, int from) {
+  long long n_out = static_cast<long long>(out.size()), n_in = 0;
+  MPI_Sendrecv(&n_out, 1, MPI_LONG_LONG, to, 11, &n_in, 1, MPI_LONG_LONG, from, 11, comm,
+               MPI_STATUS_IGNORE);
+  std::vector<double> in(static_cast<std::size_t>(n_in));
+  MPI_Sendrecv(out.data(), static_cast<int>(n_out), MPI_DOUBLE, to, 12, in.data(),
+               static_cast<int>(n_in), MPI_DOUBLE, from, 12, comm, MPI_STATUS_IGNORE);
+  return in;
+}
+}  // namespace
+
+template <int dim>
+void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, const Vec<dim>& width) {
+  p.clear_ghosts();
+  swaps_.clear();
+  for (int a = 0; a < dim; ++a) {
+    const double box = d.hi()[a] - d.lo()[a];
+    GRANPACK_CHECK(width[a] <= box,
+                   "ghost layer (" << width[a] << " of the cell) wider than a sub-box ("
+                                   << box << ") along axis " << a
+                                   << ": use fewer ranks or a larger sample");
+    const std::size_t candidates = p.size();  // owned + ghosts of earlier axes
+    for (int dir : {-1, +1}) {
+      Swap sw;
+      sw.axis = a;
+      MPI_Cart_shift(d.comm(), a, dir, &sw.from, &sw.to);
+      // Leaving through the periodic boundary: lower face of coord 0 or upper of the last.
+      if (dir < 0 && d.coords()[a] == 0) sw.shift = 1.0;
+      if (dir > 0 && d.coords()[a] == d.dims()[a] - 1) sw.shift = -1.0;
+      std::vector<double> buf;
+      for (std::size_t i = 0; i < candidates; ++i) {
+        double s = p.position[i][a];
+        bool near = dir < 0 ? s < d.lo()[a] + width[a] : s >= d.hi()[a] - width[a];
+        if (!near) continue;
+        sw.send.push_back(i);
+        std::size_t at = buf.size();
+        Packing<dim>::pack_particle(p, i, buf);
+        buf[at + 4 + a] += sw.shift;  // position[a] sits after id, radius, mass, inertia
+      }
+      std::vector<double> in = sendrecv(d.comm(), buf, sw.to, sw.from);
+      sw.recv_first = p.size();
+      std::size_t pos = 0;
+      while (pos < in.size()) p.add_ghost(Packing<dim>::unpack_particle(in.data(), pos));
+      sw.recv_count = p.size() - sw.recv_first;
+      swaps_.push_back(std::move(sw));
+    }
+  }
+}
+
+template <int dim> void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
+  constexpr int per = 2 * dim + rot_dim<dim>;
+  std::vector<double> buf;
+  for (const Swap& sw : swaps_) {
+    buf.clear();
+    buf.reserve(sw.send.size() * per);
+    for (std::size_t i : sw.send) {
+      for (int a = 0; a < dim; ++a) buf.push_back(p.position[i][a] + (a == sw.axis ? sw.shift : 0.0));
+      for (int a = 0; a < dim; ++a) buf.push_back(p.velocity[i][a]);
+      for (int a = 0; a < rot_dim<dim>; ++a) buf.push_back(p.angular_velocity[i][a]);
+    }
+    std::vector<double> in = sendrecv(d.comm(), buf, sw.to, sw.from);
+    GRANPACK_CHECK(in.size() == sw.recv_count * per, "halo forward: ghost count changed");
+    std::size_t pos = 0;
+    for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
+      for (int a = 0; a < dim; ++a) p.position[g][a] = in[pos++];
+      for (int a = 0; a < dim; ++a) p.velocity[g][a] = in[pos++];
+      for (int a = 0; a < rot_dim<dim>; ++a) p.angular_velocity[g][a] = in[pos++];
+    }
+  }
+}
+
+template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
+  constexpr int per = dim + rot_dim<dim>;
+  std::vector<double> buf;
+  for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
+    const Swap& sw = *it;
+    buf.clear();
+    for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
+      for (int a = 0; a < dim; ++a) buf.push_back(p.force[g][a]);
+      for (int a = 0; a < rot_dim<dim>; ++a) buf.push_back(p.torque[g][a]);
+      p.force[g].setZero();
+      p.torque[g].setZero();
+    }
+    // Back along the way they came: to the rank we received from.
+    std::vector<double> in = sendrecv(d.comm(), buf, sw.from, sw.to);
+    GRANPACK_CHECK(in.size() == sw.send.size() * per, "halo reverse: ghost count changed");
+    std::size_t pos = 0;
+    for (std::size_t i : sw.send) {
+      for (int a = 0; a < dim; ++a) p.force[i][a] += in[pos++];
+      for (int a = 0; a < rot_dim<dim>; ++a) p.torque[i][a] += in[pos++];
+    }
+  }
+}
+
+template class Halo<2>;
+template class Halo<3>;
+
+}  // namespace granpack

@@ -1,0 +1,250 @@
+#include "granpack/io/deck.h"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "granpack/core/error.h"
+#include "granpack/io/deck_reader.h"
+
+namespace granpack {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+const toml::value& sub_table(const toml::value& root, const std::string& file,
+                             const std::string& name, bool required) {
+  static const toml::value empty = toml::table{};
+  if (!root.as_table().count(name)) {
+    if (required)
+      throw InputError(file + ": missing required table [" + name + "] (see docs/deck.md)");
+    return empty;
+  }
+  const toml::value& t = root.as_table().at(name);
+  if (!t.is_table())
+    throw InputError(file + ":" + std::to_string(t.location().line()) + ": '" + name +
+                     "' must be a table [" + name + "], found " + toml_text(t));
+  return t;
+}
+
+SampleSpec read_sample(TableReader& r) {
+  SampleSpec s;
+  s.dimension = static_cast<int>(r.integer("dimension", Range::closed(2, 3), "space dimension, 2 or 3"));
+  s.n = r.integer("n", {1, 1e12}, "number of grains");
+  s.diameter = r.number("diameter", Range::positive(), "grain diameter a in m");
+  s.distribution = r.choice_or("distribution", "monodisperse", {"monodisperse", "uniform"},
+                               "diameter distribution");
+  s.min_diameter_ratio = r.number_or("min_diameter_ratio", 0.5, Range{0.0, 1.0, true, false},
+                                     "smallest/largest diameter for distribution = \"uniform\"");
+  if (s.distribution == "monodisperse" && r.has("min_diameter_ratio"))
+    r.fail("min_diameter_ratio", "only applies to distribution = \"uniform\"");
+  s.seed = static_cast<std::uint64_t>(r.integer_or("seed", 1, Range::non_negative(), "random seed"));
+  r.finish();
+  return s;
+}
+
+MaterialSpec read_material(TableReader& r) {
+  MaterialSpec m;
+  m.density = r.number("density", Range::positive(), "grain density in kg/m^3");
+  m.normal_law = r.choice_or("normal_law", "hertz", {"hertz", "linear"}, "normal elasticity");
+  if (m.normal_law == "hertz") {
+    m.young_modulus = r.number("young_modulus", Range::positive(), "Young modulus E in Pa");
+    m.poisson_ratio = r.number("poisson_ratio", Range::half_open(-1.0, 0.5),
+                               "Poisson ratio nu");
+    if (r.has("normal_stiffness") || r.has("tangential_stiffness_ratio"))
+      r.fail(r.has("normal_stiffness") ? "normal_stiffness" : "tangential_stiffness_ratio",
+             "only applies to normal_law = \"linear\" (Hertz stiffnesses follow from E and nu)");
+  } else {
+    m.normal_stiffness = r.number("normal_stiffness", Range::positive(), "K_N in N/m");
+    m.tangential_stiffness_ratio = r.number_or("tangential_stiffness_ratio", 1.0,
+                                               Range::non_negative(), "K_T/K_N");
+    if (r.has("young_modulus") || r.has("poisson_ratio"))
+      r.fail(r.has("young_modulus") ? "young_modulus" : "poisson_ratio",
+             "only applies to normal_law = \"hertz\"");
+  }
+  m.friction = r.number("friction", Range::non_negative(), "friction coefficient mu (inf allowed)");
+  m.damping = r.number("damping", Range::half_open(0.0, 1.0),
+                       "viscous damping zeta, fraction of critical");
+  r.finish();
+  return m;
+}
+
+NumericsSpec read_numerics(TableReader& r) {
+  NumericsSpec n;
+  n.time_step_fraction = r.number_or("time_step_fraction", n.time_step_fraction,
+                                     Range{0.0, 0.2, true, false},
+                                     "time step / contact duration of the stiffest contact");
+  n.skin = r.number_or("skin", n.skin, Range{0.0, 1.0, true, false},
+                       "Verlet skin as a fraction of the diameter");
+  r.finish();
+  return n;
+}
+
+OutputSpec read_output(TableReader& r) {
+  OutputSpec o;
+  o.log_every = r.integer_or("log_every", o.log_every, {1, 1e15}, "steps between progress lines");
+  o.quiet = r.boolean_or("quiet", o.quiet, "suppress progress lines");
+  o.checkpoint_every_steps = r.integer_or("checkpoint_every_steps", 0, Range::non_negative(),
+                                          "steps between checkpoints (0: off)");
+  o.checkpoint_every_seconds = r.number_or("checkpoint_every_seconds", 3600.0,
+                                           Range::non_negative(),
+                                           "wall seconds between checkpoints (0: off)");
+  r.finish();
+  return o;
+}
+
+LatticeStage read_lattice(TableReader& r, const SampleSpec& sample) {
+  LatticeStage s;
+  std::string fallback = sample.dimension == 3 ? "fcc" : "hex";
+  s.lattice = r.choice_or("lattice", fallback, {sample.dimension == 3 ? "fcc" : "hex"},
+                          sample.dimension == 3 ? "lattice in 3D" : "lattice in 2D");
+  double phi_max = sample.dimension == 3 ? std::numbers::pi / std::sqrt(18.0) : std::numbers::pi / std::sqrt(12.0);
+  s.phi = r.number("phi", Range{0.0, phi_max, true, false},
+                   "solid fraction (at most the close-packed value)");
+  if (sample.distribution != "monodisperse")
+    r.fail("lattice", "a lattice needs [sample] distribution = \"monodisperse\"");
+  const std::int64_t per_cell = sample.dimension == 3 ? 4 : 2;
+  auto cells = r.integers_opt("cells", sample.dimension, {1, 1e6}, "unit cells per axis");
+  if (cells) {
+    std::int64_t prod = per_cell;
+    for (auto c : *cells) prod *= c;
+    if (prod != sample.n)
+      r.fail("cells", toml_text(toml::value(*cells)) + " holds " + std::to_string(prod) +
+                          " grains but [sample] n = " + std::to_string(sample.n));
+    s.cells = *cells;
+  } else {
+    // Cubic (3D) or near-square (2D) default when n allows it.
+    auto k = static_cast<std::int64_t>(
+        std::llround(std::pow(double(sample.n) / per_cell, 1.0 / sample.dimension)));
+    std::int64_t prod = per_cell;
+    for (int a = 0; a < sample.dimension; ++a) prod *= k;
+    if (prod != sample.n)
+      r.fail("cells", "missing: [sample] n = " + std::to_string(sample.n) + " is not " +
+                          std::to_string(per_cell) + " k^" + std::to_string(sample.dimension) +
+                          "; give cells = [..] with " + std::to_string(per_cell) +
+                          " x product = n");
+    s.cells.assign(sample.dimension, k);
+  }
+  return s;
+}
+
+Tolerances read_tolerances(TableReader& r) {
+  Tolerances t;
+  t.force = r.number_or("tolerance_force", t.force, Range::positive(),
+                        "max net force per grain / (a^2 P)");
+  t.stress = r.number_or("tolerance_stress", t.stress, Range::positive(),
+                         "max |sigma_aa - P| / P");
+  t.kinetic = r.number_or("tolerance_kinetic", t.kinetic, Range::positive(),
+                          "kinetic energy per grain / (P a^3)");
+  return t;
+}
+
+StageSpec read_stage(const toml::value& v, int index, const std::string& file,
+                     const SampleSpec& sample) {
+  std::string path = "stage[" + std::to_string(index) + "]";
+  if (!v.is_table())
+    throw InputError(file + ": " + path + " must be a table ([[stage]])");
+  TableReader r(v, file, path);
+  StageSpec st;
+  st.index = index;
+  st.kind = r.choice("kind", stage_kinds(), "stage kind");
+  st.name = r.string_or("name", st.kind, "label of the stage in logs and report.json");
+  TableReader rk(v, file, path + " (" + st.kind + ")");
+  rk.accept("kind");
+  rk.accept("name");
+  if (st.kind == "lattice") {
+    st.params = read_lattice(rk, sample);
+  } else if (st.kind == "random") {
+    double phi_max = sample.dimension == 3 ? 0.35 : 0.50;  // beyond: random addition jams
+    st.params = RandomStage{rk.number("phi", Range{0.0, phi_max, true, false},
+                                      "solid fraction of random sequential placement")};
+  } else if (st.kind == "compress") {
+    CompressStage c;
+    c.pressure = rk.number("pressure", Range::positive(), "prescribed pressure P in Pa");
+    if (rk.has("inertia_max"))
+      c.inertia_max = rk.number("inertia_max", Range::positive(),
+                                "cap on the inertia number I of the strain rate");
+    c.cell_mass = rk.number_or("cell_mass", 1.0, Range::positive(),
+                               "generalised cell mass M / total grain mass");
+    c.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
+    c.tolerance = read_tolerances(rk);
+    st.params = c;
+  } else if (st.kind == "set") {
+    SetStage s;
+    if (rk.has("friction"))
+      s.friction = rk.number("friction", Range::non_negative(), "new friction coefficient");
+    if (rk.has("damping"))
+      s.damping = rk.number("damping", Range::half_open(0.0, 1.0), "new damping fraction zeta");
+    if (!s.friction && !s.damping)
+      rk.fail("kind", "= \"set\" changes nothing: give friction and/or damping");
+    st.params = s;
+  } else if (st.kind == "write") {
+    std::string f = rk.string_or("file", "", "HDF5 file name relative to the output directory");
+    if (f.empty()) rk.fail("file", "missing required key (HDF5 file name, e.g. \"after_compress.h5\")");
+    if (f.find('/') != std::string::npos || f.size() < 4 || f.substr(f.size() - 3) != ".h5")
+      rk.fail("file", "= \"" + f + "\": must be a plain file name ending in .h5 (no directories)");
+    st.params = WriteStage{f};
+  }
+  rk.finish();
+  return st;
+}
+
+}  // namespace
+
+const std::vector<std::string>& stage_kinds() {
+  static const std::vector<std::string> kinds = {"lattice", "random", "compress", "set", "write"};
+  return kinds;
+}
+
+Deck parse_deck(const std::string& text, const std::string& file_name) {
+  Deck deck;
+  deck.file = file_name;
+  deck.text = text;
+  toml::value root;
+  try {
+    std::istringstream is(text);
+    root = toml::parse(is, file_name);
+  } catch (const toml::syntax_error& e) {
+    throw InputError(file_name + ": TOML syntax error at line " +
+                     std::to_string(e.location().line()) + ":\n" + e.what());
+  }
+  TableReader top(root, file_name, "top level");
+  for (const char* t : {"sample", "material", "numerics", "output", "stage"}) top.accept(t);
+  top.finish();
+
+  TableReader rs(sub_table(root, file_name, "sample", true), file_name, "sample");
+  deck.sample = read_sample(rs);
+  TableReader rm(sub_table(root, file_name, "material", true), file_name, "material");
+  deck.material = read_material(rm);
+  TableReader rn(sub_table(root, file_name, "numerics", false), file_name, "numerics");
+  deck.numerics = read_numerics(rn);
+  TableReader ro(sub_table(root, file_name, "output", false), file_name, "output");
+  deck.output = read_output(ro);
+
+  if (!root.as_table().count("stage"))
+    throw InputError(file_name + ": no stages: add at least one [[stage]] table (see docs/deck.md)");
+  const toml::value& stages = root.as_table().at("stage");
+  if (!stages.is_array())
+    throw InputError(file_name + ":" + std::to_string(stages.location().line()) +
+                     ": 'stage' must be an array of tables, written [[stage]]");
+  int index = 0;
+  for (const auto& s : stages.as_array())
+    deck.stages.push_back(read_stage(s, index++, file_name, deck.sample));
+  if (deck.stages.empty())
+    throw InputError(file_name + ": no stages: add at least one [[stage]] table");
+  return deck;
+}
+
+Deck load_deck(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot open the deck file (does it exist?)");
+  std::ostringstream os;
+  os << in.rdbuf();
+  if (in.bad()) throw InputError(path.string() + ": read error");
+  return parse_deck(os.str(), path.string());
+}
+
+}  // namespace granpack

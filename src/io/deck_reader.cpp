@@ -1,0 +1,203 @@
+#include "granpack/io/deck_reader.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "granpack/core/error.h"
+
+namespace granpack {
+
+bool Range::contains(double x) const {
+  if (std::isnan(x)) return false;
+  bool above = lo_open ? x > lo : x >= lo;
+  bool below = hi_open ? x < hi : x <= hi;
+  return above && below;
+}
+
+std::string Range::describe() const {
+  std::ostringstream os;
+  bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
+  if (has_lo && has_hi)
+    os << "in " << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
+  else if (has_lo)
+    os << (lo_open ? "> " : ">= ") << lo << (hi == std::numeric_limits<double>::infinity() && !hi_open ? " (inf allowed)" : "");
+  else if (has_hi)
+    os << (hi_open ? "< " : "<= ") << hi;
+  else
+    os << "any number";
+  return os.str();
+}
+
+std::string toml_text(const toml::value& v) {
+  std::ostringstream os;
+  if (v.is_string())
+    os << '"' << v.as_string().str << '"';
+  else if (v.is_table())
+    os << "{table}";
+  else
+    os << toml::format(v, 0);
+  std::string s = os.str();
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+static const char* type_name(const toml::value& v) {
+  switch (v.type()) {
+    case toml::value_t::boolean: return "boolean";
+    case toml::value_t::integer: return "integer";
+    case toml::value_t::floating: return "float";
+    case toml::value_t::string: return "string";
+    case toml::value_t::array: return "array";
+    case toml::value_t::table: return "table";
+    default: return "date/time";
+  }
+}
+
+TableReader::TableReader(const toml::value& table, std::string file, std::string table_path)
+    : table_(table), file_(std::move(file)), path_(std::move(table_path)) {}
+
+std::string TableReader::where(const std::string& key) const {
+  std::ostringstream os;
+  os << file_;
+  if (table_.is_table() && table_.as_table().count(key)) {
+    auto line = table_.as_table().at(key).location().line();
+    if (line > 0) os << ":" << line;
+  }
+  os << ": [" << path_ << "] " << key;
+  return os.str();
+}
+
+void TableReader::fail(const std::string& key, const std::string& problem) const {
+  throw InputError(where(key) + ": " + problem);
+}
+
+bool TableReader::has(const std::string& key) const {
+  return table_.is_table() && table_.as_table().count(key) > 0;
+}
+
+const toml::value* TableReader::find(const std::string& key) {
+  known_.insert(key);
+  if (!has(key)) return nullptr;
+  return &table_.as_table().at(key);
+}
+
+double TableReader::to_double(const std::string& key, const toml::value& v,
+                              const std::string& what) {
+  if (v.is_integer()) return static_cast<double>(v.as_integer());
+  if (v.is_floating()) return v.as_floating();
+  fail(key, "= " + toml_text(v) + " is a " + type_name(v) + ", expected a number (" + what + ")");
+}
+
+double TableReader::number(const std::string& key, Range range, const std::string& what) {
+  const toml::value* v = find(key);
+  if (!v) fail(key, "missing required key (" + what + ", " + range.describe() + ")");
+  double x = to_double(key, *v, what);
+  if (!range.contains(x))
+    fail(key, "= " + toml_text(*v) + " is out of range: " + what + " must be " + range.describe());
+  return x;
+}
+
+double TableReader::number_or(const std::string& key, double fallback, Range range,
+                              const std::string& what) {
+  if (!has(key)) {
+    known_.insert(key);
+    return fallback;
+  }
+  return number(key, range, what);
+}
+
+std::int64_t TableReader::integer(const std::string& key, Range range, const std::string& what) {
+  const toml::value* v = find(key);
+  if (!v) fail(key, "missing required key (" + what + ", an integer " + range.describe() + ")");
+  if (!v->is_integer())
+    fail(key, "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected an integer (" + what + ")");
+  auto x = v->as_integer();
+  if (!range.contains(static_cast<double>(x)))
+    fail(key, "= " + toml_text(*v) + " is out of range: " + what + " must be " + range.describe());
+  return x;
+}
+
+std::int64_t TableReader::integer_or(const std::string& key, std::int64_t fallback, Range range,
+                                     const std::string& what) {
+  if (!has(key)) {
+    known_.insert(key);
+    return fallback;
+  }
+  return integer(key, range, what);
+}
+
+std::string TableReader::choice(const std::string& key, const std::vector<std::string>& allowed,
+                                const std::string& what) {
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + a + "\"";
+  const toml::value* v = find(key);
+  if (!v) fail(key, "missing required key (" + what + ", one of " + list + ")");
+  if (!v->is_string())
+    fail(key, "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected a string, one of " + list);
+  const std::string& s = v->as_string().str;
+  for (const auto& a : allowed)
+    if (s == a) return s;
+  fail(key, "= " + toml_text(*v) + " is not allowed: " + what + " must be one of " + list);
+}
+
+std::string TableReader::choice_or(const std::string& key, const std::string& fallback,
+                                   const std::vector<std::string>& allowed, const std::string& what) {
+  if (!has(key)) {
+    known_.insert(key);
+    return fallback;
+  }
+  return choice(key, allowed, what);
+}
+
+std::string TableReader::string_or(const std::string& key, const std::string& fallback,
+                                   const std::string& what) {
+  const toml::value* v = find(key);
+  if (!v) return fallback;
+  if (!v->is_string())
+    fail(key, "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected a string (" + what + ")");
+  return v->as_string().str;
+}
+
+bool TableReader::boolean_or(const std::string& key, bool fallback, const std::string& what) {
+  const toml::value* v = find(key);
+  if (!v) return fallback;
+  if (!v->is_boolean())
+    fail(key, "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected true or false (" + what + ")");
+  return v->as_boolean();
+}
+
+std::optional<std::vector<std::int64_t>> TableReader::integers_opt(const std::string& key,
+                                                                   std::size_t count, Range range,
+                                                                   const std::string& what) {
+  const toml::value* v = find(key);
+  if (!v) return std::nullopt;
+  std::string expect = "expected an array of " + std::to_string(count) + " integers " +
+                       range.describe() + " (" + what + ")";
+  if (!v->is_array() || v->as_array().size() != count) fail(key, "= " + toml_text(*v) + ": " + expect);
+  std::vector<std::int64_t> out;
+  for (const auto& e : v->as_array()) {
+    if (!e.is_integer() || !range.contains(static_cast<double>(e.as_integer())))
+      fail(key, "= " + toml_text(*v) + ": " + expect);
+    out.push_back(e.as_integer());
+  }
+  return out;
+}
+
+std::vector<std::int64_t> TableReader::integers(const std::string& key, std::size_t count,
+                                                Range range, const std::string& what) {
+  auto v = integers_opt(key, count, range, what);
+  if (!v) fail(key, "missing required key (" + what + ")");
+  return *v;
+}
+
+void TableReader::finish() const {
+  if (!table_.is_table()) return;
+  for (const auto& [key, value] : table_.as_table()) {
+    if (known_.count(key)) continue;
+    std::string list;
+    for (const auto& k : known_) list += (list.empty() ? "" : ", ") + k;
+    fail(key, "unknown key; allowed keys here: " + list);
+  }
+}
+
+}  // namespace granpack

@@ -1,0 +1,21 @@
+#include "granpack/io/log.h"
+
+#include <iostream>
+
+#include "granpack/core/error.h"
+
+namespace granpack {
+
+void Log::open_file(const std::string& path) {
+  if (!root_) return;
+  file_ = std::make_unique<std::ofstream>(path, std::ios::trunc);
+  if (!*file_) throw Error("cannot write the log file " + path);
+}
+
+void Log::emit(const std::string& line, bool to_stderr) {
+  if (!root_) return;
+  (to_stderr ? std::cerr : std::cout) << line << std::endl;
+  if (file_) *file_ << line << std::endl;
+}
+
+}  // namespace granpack

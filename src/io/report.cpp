@@ -1,0 +1,65 @@
+#include "granpack/io/report.h"
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "granpack/core/error.h"
+
+namespace granpack {
+
+namespace {
+template <class T> nlohmann::json opt(const std::optional<T>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+}  // namespace
+
+std::string to_json(const RunReport& r) {
+  nlohmann::json j;
+  j["version"] = r.version;
+  j["dimension"] = r.dimension;
+  j["n"] = r.n;
+  j["ranks"] = r.ranks;
+  j["deck"] = r.deck;
+  j["final"] = r.final_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.final_file);
+  j["wall_seconds"] = r.wall_seconds;
+  j["stages"] = nlohmann::json::array();
+  for (const auto& s : r.stages) {
+    nlohmann::json e;
+    e["name"] = s.name;
+    e["kind"] = s.kind;
+    e["steps"] = s.steps;
+    e["time"] = s.time;
+    e["equilibrated"] = opt(s.equilibrated);
+    e["phi"] = opt(s.phi);
+    e["pressure"] = opt(s.pressure);
+    e["kappa"] = opt(s.kappa);
+    e["inertia_max"] = opt(s.inertia_max);
+    e["z"] = opt(s.z);
+    e["z_star"] = opt(s.z_star);
+    e["x0"] = opt(s.x0);
+    e["wall_seconds"] = s.wall_seconds;
+    j["stages"].push_back(e);
+  }
+  return j.dump(2) + "\n";
+}
+
+void write_text_atomically(const std::filesystem::path& path, const std::string& text) {
+  auto tmp = path;
+  tmp += ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc | std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) throw Error("cannot write " + tmp.string());
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw Error("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+}
+
+void write_report(const std::filesystem::path& path, const RunReport& r) {
+  write_text_atomically(path, to_json(r));
+}
+
+}  // namespace granpack

@@ -1,0 +1,49 @@
+// `write` stage and the shared writer of configuration files.
+#include <chrono>
+
+#include "granpack/core/error.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/prep/stages.h"
+
+namespace granpack {
+
+bool stage_implemented(const std::string& kind) {
+  return kind == "lattice" || kind == "set" || kind == "write";
+}
+
+template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file) {
+  Configuration<dim> c;
+  c.cell = ctx.system.cell;
+  c.particles = ctx.system.particles;
+  c.particles.clear_ghosts();
+  c.contacts = ctx.system.contacts;
+  c.meta.granpack_version = GRANPACK_VERSION;
+  c.meta.dimension = dim;
+  c.meta.time = ctx.system.time;
+  c.meta.step = ctx.system.step;
+  c.meta.stage_index = ctx.stage_index;
+  c.meta.stage_name = ctx.stage_name;
+  c.meta.deck_text = ctx.deck->text;
+  c.meta.kind = "configuration";
+  write_configuration<dim>(ctx.world, file, c);
+}
+
+template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage& p) {
+  auto t0 = std::chrono::steady_clock::now();
+  GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index
+                                             << " (write): there is no sample yet; put a "
+                                                "lattice or random stage before it");
+  write_state(ctx, ctx.output_dir / p.file);
+  ctx.log->info("  wrote " + (ctx.output_dir / p.file).string());
+  StageReport r;
+  r.phi = ctx.solid_fraction();
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+template void write_state<2>(RunContext<2>&, const std::filesystem::path&);
+template void write_state<3>(RunContext<3>&, const std::filesystem::path&);
+template StageReport run_write<2>(RunContext<2>&, const WriteStage&);
+template StageReport run_write<3>(RunContext<3>&, const WriteStage&);
+
+}  // namespace granpack

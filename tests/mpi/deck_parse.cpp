@@ -1,0 +1,104 @@
+// Deck parsing and validation (the end-to-end exit-code checks are in tests/cli/bad_decks.sh).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "granpack/core/error.h"
+#include "granpack/io/deck.h"
+#include "test_paths.h"
+
+using namespace granpack;
+
+namespace {
+const char* kGood = R"(
+[sample]
+dimension = 2
+n = 1400
+diameter = 1e-4
+distribution = "uniform"
+seed = 7
+
+[material]
+density = 2500.0
+normal_law = "linear"
+normal_stiffness = 1.0e5
+friction = inf
+damping = 0.5
+
+[output]
+quiet = true
+
+[[stage]]
+kind = "compress"
+pressure = 100.0
+inertia_max = 1e-3
+
+[[stage]]
+kind = "set"
+friction = 0.15
+
+[[stage]]
+kind = "write"
+file = "a.h5"
+)";
+
+std::string message_of(const std::string& text) {
+  try {
+    parse_deck(text, "t.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+}  // namespace
+
+TEST(Deck, ParsesEveryKeyWithDefaults) {
+  Deck d = parse_deck(kGood, "good.toml");
+  EXPECT_EQ(d.sample.dimension, 2);
+  EXPECT_EQ(d.sample.n, 1400);
+  EXPECT_EQ(d.sample.distribution, "uniform");
+  EXPECT_DOUBLE_EQ(d.sample.min_diameter_ratio, 0.5);
+  EXPECT_EQ(d.sample.seed, 7u);
+  EXPECT_EQ(d.material.normal_law, "linear");
+  EXPECT_TRUE(std::isinf(d.material.friction));
+  EXPECT_DOUBLE_EQ(d.material.tangential_stiffness_ratio, 1.0);
+  EXPECT_DOUBLE_EQ(d.numerics.time_step_fraction, 0.02);
+  EXPECT_TRUE(d.output.quiet);
+  ASSERT_EQ(d.stages.size(), 3u);
+  const auto& c = std::get<CompressStage>(d.stages[0].params);
+  EXPECT_DOUBLE_EQ(c.pressure, 100.0);
+  ASSERT_TRUE(c.inertia_max.has_value());
+  EXPECT_DOUBLE_EQ(c.tolerance.kinetic, 1e-8);
+  EXPECT_EQ(d.stages[1].name, "set");
+  EXPECT_DOUBLE_EQ(*std::get<SetStage>(d.stages[1].params).friction, 0.15);
+  EXPECT_EQ(std::get<WriteStage>(d.stages[2].params).file, "a.h5");
+  EXPECT_EQ(d.text, kGood);
+}
+
+TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
+  std::string good = kGood;
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = good;
+    auto pos = t.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    return t.replace(pos, from.size(), to);
+  };
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = -0.5")).find("[material] damping: = -0.5 is out of range"), std::string::npos);
+  EXPECT_NE(message_of(with("normal_stiffness = 1.0e5", "young_modulus = 1.0e5")).find("normal_stiffness: missing required key"), std::string::npos);
+  EXPECT_NE(message_of(with("inertia_max = 1e-3", "inertia_max = \"fast\"")).find("[stage[0] (compress)] inertia_max: = \"fast\" is a string"), std::string::npos);
+  EXPECT_NE(message_of(with("file = \"a.h5\"", "file = \"../a.h5\"")).find("must be a plain file name"), std::string::npos);
+  EXPECT_NE(message_of(with("kind = \"set\"\nfriction = 0.15", "kind = \"set\"")).find("changes nothing"), std::string::npos);
+  EXPECT_NE(message_of(with("seed = 7", "seed = 7\nseeed = 8")).find("t.toml:8: [sample] seeed: unknown key"), std::string::npos);
+  EXPECT_NE(message_of(with("[sample]", "sample = 3\n[sampl]")).find("'sample' must be a table"), std::string::npos);
+}
+
+TEST(Deck, EveryShippedDeckIsValid) {
+  int count = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(test::source_dir() / "jobs" / "decks")) {
+    if (e.path().extension() != ".toml") continue;
+    EXPECT_NO_THROW(load_deck(e.path())) << e.path();
+    ++count;
+  }
+  EXPECT_GE(count, 1);
+}
