@@ -27,15 +27,29 @@ void CollectiveError::raise_if_any(MPI_Comm comm) {
   std::string all(displs.back() + lens.back(), '\0');
   MPI_Allgatherv(message_.data(), len, MPI_CHAR, all.data(), lens.data(), displs.data(), MPI_CHAR,
                  comm);
-  std::string text;
-  std::string previous;
+  // One distinct message that every rank saw: say it once, without rank labels. Otherwise
+  // label each distinct message with the first rank that reported it.
+  std::vector<std::string> messages;
+  std::vector<int> first_rank;
+  int failing = 0;
   for (int r = 0; r < size; ++r) {
     if (lens[r] == 0) continue;
+    ++failing;
     std::string m = all.substr(displs[r], lens[r]);
-    if (m == previous) continue;  // the same message from several ranks is said once
-    if (!text.empty()) text += "\n";
-    text += (size > 1 ? "[rank " + std::to_string(r) + "] " : std::string()) + m;
-    previous = m;
+    bool seen = false;
+    for (const auto& x : messages) seen = seen || x == m;
+    if (seen) continue;
+    messages.push_back(m);
+    first_rank.push_back(r);
+  }
+  std::string text;
+  if (messages.size() == 1 && failing == size) {
+    text = messages[0];
+  } else {
+    for (std::size_t k = 0; k < messages.size(); ++k) {
+      if (k) text.push_back('\n');
+      text.append("[rank ").append(std::to_string(first_rank[k])).append("] ").append(messages[k]);
+    }
   }
   message_.clear();
   exit_code_ = kExitOk;

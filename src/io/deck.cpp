@@ -19,9 +19,9 @@ const toml::value& sub_table(const toml::value& root, const std::string& file,
                              const std::string& name, bool required) {
   static const toml::value empty = toml::table{};
   if (!root.as_table().count(name)) {
-    if (required)
-      throw InputError(file + ": missing required table [" + name + "] (see docs/deck.md)");
-    return empty;
+    if (!required) return empty;
+    TableReader top(root, file, "top level");
+    top.fail_missing(name, "table [" + name + "], see docs/deck.md");
   }
   const toml::value& t = root.as_table().at(name);
   if (!t.is_table())
@@ -112,7 +112,7 @@ LatticeStage read_lattice(TableReader& r, const SampleSpec& sample) {
     std::int64_t prod = per_cell;
     for (auto c : *cells) prod *= c;
     if (prod != sample.n)
-      r.fail("cells", toml_text(toml::value(*cells)) + " holds " + std::to_string(prod) +
+      r.fail("cells", "= " + toml_text(toml::value(*cells)) + " holds " + std::to_string(prod) +
                           " grains but [sample] n = " + std::to_string(sample.n));
     s.cells = *cells;
   } else {
@@ -131,8 +131,8 @@ LatticeStage read_lattice(TableReader& r, const SampleSpec& sample) {
   return s;
 }
 
-Tolerances read_tolerances(TableReader& r) {
-  Tolerances t;
+EquilibriumTolerances read_tolerances(TableReader& r) {
+  EquilibriumTolerances t;
   t.force = r.number_or("tolerance_force", t.force, Range::positive(),
                         "max net force per grain / (a^2 P)");
   t.stress = r.number_or("tolerance_stress", t.stress, Range::positive(),
@@ -211,17 +211,21 @@ Deck parse_deck(const std::string& text, const std::string& file_name) {
     throw InputError(file_name + ": TOML syntax error at line " +
                      std::to_string(e.location().line()) + ":\n" + e.what());
   }
+  const toml::value& sample = sub_table(root, file_name, "sample", true);
+  const toml::value& material = sub_table(root, file_name, "material", true);
+  const toml::value& numerics = sub_table(root, file_name, "numerics", false);
+  const toml::value& output = sub_table(root, file_name, "output", false);
   TableReader top(root, file_name, "top level");
   for (const char* t : {"sample", "material", "numerics", "output", "stage"}) top.accept(t);
   top.finish();
 
-  TableReader rs(sub_table(root, file_name, "sample", true), file_name, "sample");
+  TableReader rs(sample, file_name, "sample");
   deck.sample = read_sample(rs);
-  TableReader rm(sub_table(root, file_name, "material", true), file_name, "material");
+  TableReader rm(material, file_name, "material");
   deck.material = read_material(rm);
-  TableReader rn(sub_table(root, file_name, "numerics", false), file_name, "numerics");
+  TableReader rn(numerics, file_name, "numerics");
   deck.numerics = read_numerics(rn);
-  TableReader ro(sub_table(root, file_name, "output", false), file_name, "output");
+  TableReader ro(output, file_name, "output");
   deck.output = read_output(ro);
 
   if (!root.as_table().count("stage"))
@@ -238,13 +242,19 @@ Deck parse_deck(const std::string& text, const std::string& file_name) {
   return deck;
 }
 
-Deck load_deck(const std::filesystem::path& path) {
+std::string read_deck_text(const std::filesystem::path& path) {
+  if (std::filesystem::is_directory(path))
+    throw InputError(path.string() + ": is a directory, not a deck file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot open the deck file (does it exist?)");
   std::ostringstream os;
   os << in.rdbuf();
   if (in.bad()) throw InputError(path.string() + ": read error");
-  return parse_deck(os.str(), path.string());
+  return os.str();
+}
+
+Deck load_deck(const std::filesystem::path& path) {
+  return parse_deck(read_deck_text(path), path.string());
 }
 
 }  // namespace granpack

@@ -1,5 +1,6 @@
 #include "granpack/io/deck_reader.h"
 
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -20,7 +21,7 @@ std::string Range::describe() const {
   if (has_lo && has_hi)
     os << "in " << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
   else if (has_lo)
-    os << (lo_open ? "> " : ">= ") << lo << (hi == std::numeric_limits<double>::infinity() && !hi_open ? " (inf allowed)" : "");
+    os << (lo_open ? "> " : ">= ") << lo;
   else if (has_hi)
     os << (hi_open ? "< " : "<= ") << hi;
   else
@@ -30,6 +31,22 @@ std::string Range::describe() const {
 
 std::string toml_text(const toml::value& v) {
   std::ostringstream os;
+  if (v.is_floating()) {
+    // Shortest text that reads back to the same double: what the user typed, not 17 digits.
+    char buf[64];
+    double x = v.as_floating();
+    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+    if (std::isnan(x)) return "nan";
+    auto res = std::to_chars(buf, buf + sizeof buf, x);
+    std::string s(buf, res.ptr);
+    if (s.find_first_of(".e") == std::string::npos) s += ".0";
+    return s;
+  }
+  if (v.is_array()) {
+    std::string s = "[";
+    for (const auto& e : v.as_array()) s += (s.size() > 1 ? ", " : "") + toml_text(e);
+    return s + "]";
+  }
   if (v.is_string())
     os << '"' << v.as_string().str << '"';
   else if (v.is_table())
@@ -52,6 +69,27 @@ static const char* type_name(const toml::value& v) {
     default: return "date/time";
   }
 }
+
+namespace {
+/// Levenshtein distance, for "did you mean" hints on misspelt keys.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+bool similar(const std::string& a, const std::string& b) {
+  return edit_distance(a, b) <= std::max<std::size_t>(1, std::min(a.size(), b.size()) / 4);
+}
+}  // namespace
 
 TableReader::TableReader(const toml::value& table, std::string file, std::string table_path)
     : table_(table), file_(std::move(file)), path_(std::move(table_path)) {}
@@ -81,6 +119,15 @@ const toml::value* TableReader::find(const std::string& key) {
   return &table_.as_table().at(key);
 }
 
+void TableReader::fail_missing(const std::string& key, const std::string& what) const {
+  // A required key is often missing because it is misspelt: report the misspelling instead.
+  if (table_.is_table())
+    for (const auto& [other, value] : table_.as_table())
+      if (!known_.count(other) && similar(other, key))
+        fail(other, "unknown key (did you mean '" + key + "'?)");
+  fail(key, "missing required key (" + what + ")");
+}
+
 double TableReader::to_double(const std::string& key, const toml::value& v,
                               const std::string& what) {
   if (v.is_integer()) return static_cast<double>(v.as_integer());
@@ -90,7 +137,7 @@ double TableReader::to_double(const std::string& key, const toml::value& v,
 
 double TableReader::number(const std::string& key, Range range, const std::string& what) {
   const toml::value* v = find(key);
-  if (!v) fail(key, "missing required key (" + what + ", " + range.describe() + ")");
+  if (!v) fail_missing(key, what + ", " + range.describe());
   double x = to_double(key, *v, what);
   if (!range.contains(x))
     fail(key, "= " + toml_text(*v) + " is out of range: " + what + " must be " + range.describe());
@@ -108,7 +155,7 @@ double TableReader::number_or(const std::string& key, double fallback, Range ran
 
 std::int64_t TableReader::integer(const std::string& key, Range range, const std::string& what) {
   const toml::value* v = find(key);
-  if (!v) fail(key, "missing required key (" + what + ", an integer " + range.describe() + ")");
+  if (!v) fail_missing(key, what + ", an integer " + range.describe());
   if (!v->is_integer())
     fail(key, "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected an integer (" + what + ")");
   auto x = v->as_integer();
@@ -131,7 +178,7 @@ std::string TableReader::choice(const std::string& key, const std::vector<std::s
   std::string list;
   for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + a + "\"";
   const toml::value* v = find(key);
-  if (!v) fail(key, "missing required key (" + what + ", one of " + list + ")");
+  if (!v) fail_missing(key, what + ", one of " + list);
   if (!v->is_string())
     fail(key, "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected a string, one of " + list);
   const std::string& s = v->as_string().str;
@@ -186,7 +233,7 @@ std::optional<std::vector<std::int64_t>> TableReader::integers_opt(const std::st
 std::vector<std::int64_t> TableReader::integers(const std::string& key, std::size_t count,
                                                 Range range, const std::string& what) {
   auto v = integers_opt(key, count, range, what);
-  if (!v) fail(key, "missing required key (" + what + ")");
+  if (!v) fail_missing(key, what);
   return *v;
 }
 
@@ -194,9 +241,12 @@ void TableReader::finish() const {
   if (!table_.is_table()) return;
   for (const auto& [key, value] : table_.as_table()) {
     if (known_.count(key)) continue;
-    std::string list;
-    for (const auto& k : known_) list += (list.empty() ? "" : ", ") + k;
-    fail(key, "unknown key; allowed keys here: " + list);
+    std::string list, hint;
+    for (const auto& k : known_) {
+      list += (list.empty() ? "" : ", ") + k;
+      if (hint.empty() && similar(key, k)) hint = " (did you mean '" + k + "'?)";
+    }
+    fail(key, "unknown key" + hint + "; allowed keys here: " + list);
   }
 }
 

@@ -1,10 +1,10 @@
 #include "granpack/io/report.h"
 
-#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "granpack/core/error.h"
+#include "granpack/io/atomic_file.h"
 
 namespace granpack {
 
@@ -45,17 +45,14 @@ std::string to_json(const RunReport& r) {
 }
 
 void write_text_atomically(const std::filesystem::path& path, const std::string& text) {
-  auto tmp = path;
-  tmp += ".tmp";
+  const auto tmp = temp_path_for(path);
   {
     std::ofstream out(tmp, std::ios::trunc | std::ios::binary);
     out << text;
     out.flush();
     if (!out) throw Error("cannot write " + tmp.string());
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+  commit_temp_file(tmp, path);
 }
 
 void write_report(const std::filesystem::path& path, const RunReport& r) {

@@ -18,13 +18,21 @@ Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path) {
   int rank = 0;
   MPI_Comm_rank(world, &rank);
   std::string text;
-  collectively(world, [&] {
-    if (rank == 0) text = load_deck(path).text;  // throws InputError for an unreadable file
-  });
+  int ok = 1;
+  if (rank == 0) {
+    try {
+      text = read_deck_text(path);
+    } catch (const InputError& e) {
+      text = e.what();
+      ok = 0;
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, world);
   long long len = static_cast<long long>(text.size());
   MPI_Bcast(&len, 1, MPI_LONG_LONG, 0, world);
   text.resize(static_cast<std::size_t>(len));
   MPI_Bcast(text.data(), static_cast<int>(len), MPI_CHAR, 0, world);
+  if (!ok) throw InputError(text);  // on every rank, same message
   return parse_deck(text, path.string());
 }
 

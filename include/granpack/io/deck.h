@@ -10,6 +10,8 @@
 #include <variant>
 #include <vector>
 
+#include "granpack/dynamics/equilibrium.h"
+
 namespace granpack {
 
 struct SampleSpec {
@@ -44,11 +46,6 @@ struct OutputSpec {
   double checkpoint_every_seconds = 3600.0;  ///< wall seconds; 0: off
 };
 
-struct Tolerances {  ///< [AR] sec. III criteria, dimensionless
-  double force = 1e-4;    ///< max net force on a grain / (a^2 P)
-  double stress = 1e-4;   ///< max |sigma_aa - P| / P
-  double kinetic = 1e-8;  ///< kinetic energy per grain / (P a^3)
-};
 
 struct LatticeStage {
   std::string lattice;  ///< "fcc" (3D) or "hex" (2D triangular)
@@ -63,7 +60,7 @@ struct CompressStage {
   std::optional<double> inertia_max;    ///< cap on I = eps_dot sqrt(m/(aP)), eq. (23)
   double cell_mass = 1.0;               ///< M / (sum of grain masses)
   std::int64_t max_steps = 0;           ///< 0: no limit
-  Tolerances tolerance;
+  EquilibriumTolerances tolerance;  ///< [AR] sec. III criteria
 };
 struct SetStage {
   std::optional<double> friction, damping;
@@ -99,7 +96,10 @@ const std::vector<std::string>& stage_kinds();
 /// reads the file on one rank and broadcasts its text, so every rank validates identically.
 Deck parse_deck(const std::string& text, const std::string& file_name);
 
-/// Reads the file and parses it; a missing or unreadable file is an InputError too.
+/// The text of a deck file; a missing or unreadable file is an InputError.
+std::string read_deck_text(const std::filesystem::path& path);
+
+/// Reads the file and parses it.
 Deck load_deck(const std::filesystem::path& path);
 
 }  // namespace granpack

@@ -55,6 +55,8 @@ public:
   void finish() const;
 
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const;
+  /// A required key is absent: names a similar unknown key of the table if there is one.
+  [[noreturn]] void fail_missing(const std::string& key, const std::string& what) const;
   const std::string& file() const { return file_; }
   const std::string& path() const { return path_; }
 

@@ -1,0 +1,848 @@
+#include "granpack/io/hdf5_store.h"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <vector>
+
+#include "granpack/comm/collective_error.h"
+#include "granpack/io/atomic_file.h"
+#include "granpack/io/hdf5_handle.h"
+#include "granpack/io/xdmf.h"
+
+#ifndef GRANPACK_VERSION
+#define GRANPACK_VERSION "unknown"
+#endif
+
+namespace granpack {
+
+namespace {
+
+using h5::Handle;
+
+std::function<void(std::string_view)>& write_hook() {
+  static std::function<void(std::string_view)> hook;
+  return hook;
+}
+void run_write_hook(std::string_view stage) {
+  if (write_hook())
+    write_hook()(stage);
+}
+
+/// Like collectively(), but a bad-input failure on any rank becomes an InputError on every
+/// rank (collectively() rethrows a plain Error carrying the exit code).
+template <class F> void collectively_typed(MPI_Comm comm, F&& f) {
+  try {
+    collectively(comm, std::forward<F>(f));
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    if (e.exit_code() == kExitBadInput)
+      throw InputError(e.what());
+    throw;
+  }
+}
+
+int comm_rank(MPI_Comm comm) {
+  int r = 0;
+  MPI_Comm_rank(comm, &r);
+  return r;
+}
+int comm_size(MPI_Comm comm) {
+  int s = 1;
+  MPI_Comm_size(comm, &s);
+  return s;
+}
+
+/// The file being read or written: every failure names it, and the HDF5 detail is appended.
+/// Reading failures are bad input (InputError); writing failures are runtime errors.
+struct FileContext {
+  std::filesystem::path path;
+  bool reading = true;
+
+  [[noreturn]] void fail(const std::string& what, bool with_hdf5_detail = false) const {
+    std::string msg = path.string() + ": " + what;
+    if (with_hdf5_detail) {
+      const std::string detail = h5::last_error_detail();
+      if (!detail.empty())
+        msg += " (HDF5: " + detail + ")";
+    }
+    if (reading)
+      throw InputError(msg);
+    throw Error(msg);
+  }
+  hid_t id(hid_t id, const std::string& what) const {
+    if (id < 0)
+      fail(what, true);
+    return id;
+  }
+  void rc(herr_t rc, const std::string& what) const {
+    if (rc < 0)
+      fail(what, true);
+  }
+};
+
+// ----------------------------------------------------------------------------------------
+// Types
+
+template <class T> hid_t mem_type();
+template <> hid_t mem_type<double>() {
+  return H5T_NATIVE_DOUBLE;
+}
+template <> hid_t mem_type<std::int64_t>() {
+  return H5T_NATIVE_INT64;
+}
+template <> hid_t mem_type<std::uint32_t>() {
+  return H5T_NATIVE_UINT32;
+}
+template <> hid_t mem_type<int>() {
+  return H5T_NATIVE_INT;
+}
+
+template <class T> hid_t file_type();
+template <> hid_t file_type<double>() {
+  return H5T_IEEE_F64LE;
+}
+template <> hid_t file_type<std::int64_t>() {
+  return H5T_STD_I64LE;
+}
+template <> hid_t file_type<std::uint32_t>() {
+  return H5T_STD_U32LE;
+}
+template <> hid_t file_type<int>() {
+  return H5T_STD_I32LE;
+}
+
+template <class T> H5T_class_t type_class() {
+  return std::is_floating_point_v<T> ? H5T_FLOAT : H5T_INTEGER;
+}
+template <class T> const char* type_name() {
+  return std::is_floating_point_v<T> ? "floating-point" : "integer";
+}
+
+// ----------------------------------------------------------------------------------------
+// Attributes
+
+Handle scalar_space(const FileContext& ctx) {
+  return h5::dataspace_handle(ctx.id(H5Screate(H5S_SCALAR), "cannot create a dataspace"));
+}
+
+template <class T>
+void write_attribute(const FileContext& ctx, hid_t obj, const char* name, T value) {
+  auto space = scalar_space(ctx);
+  auto attr = h5::attribute_handle(
+      ctx.id(H5Acreate2(obj, name, file_type<T>(), space, H5P_DEFAULT, H5P_DEFAULT),
+             std::string("cannot create attribute ") + name));
+  ctx.rc(H5Awrite(attr, mem_type<T>(), &value), std::string("cannot write attribute ") + name);
+}
+
+/// Variable-length UTF-8 string attribute (h5py reads it as str).
+void write_attribute(const FileContext& ctx, hid_t obj, const char* name, const std::string& s) {
+  auto type = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot create a string type"));
+  ctx.rc(H5Tset_size(type, H5T_VARIABLE), "cannot create a string type");
+  ctx.rc(H5Tset_cset(type, H5T_CSET_UTF8), "cannot create a string type");
+  auto space = scalar_space(ctx);
+  auto attr =
+      h5::attribute_handle(ctx.id(H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT),
+                                  std::string("cannot create attribute ") + name));
+  const char* p = s.c_str();
+  ctx.rc(H5Awrite(attr, type, &p), std::string("cannot write attribute ") + name);
+}
+
+Handle open_attribute(const FileContext& ctx, hid_t obj, const std::string& where,
+                      const char* name) {
+  const htri_t exists = H5Aexists(obj, name);
+  if (exists < 0)
+    ctx.fail("cannot look up attribute " + where + name, true);
+  if (exists == 0)
+    ctx.fail("missing attribute " + where + name);
+  auto attr = h5::attribute_handle(
+      ctx.id(H5Aopen(obj, name, H5P_DEFAULT), "cannot open attribute " + where + name));
+  auto space =
+      h5::dataspace_handle(ctx.id(H5Aget_space(attr), "cannot read attribute " + where + name));
+  if (H5Sget_simple_extent_npoints(space) != 1)
+    ctx.fail("attribute " + where + name + " is not a single value");
+  return attr;
+}
+
+template <class T>
+T read_attribute(const FileContext& ctx, hid_t obj, const std::string& where, const char* name) {
+  auto attr = open_attribute(ctx, obj, where, name);
+  auto type =
+      h5::datatype_handle(ctx.id(H5Aget_type(attr), "cannot read attribute " + where + name));
+  if (H5Tget_class(type) != type_class<T>())
+    ctx.fail("attribute " + where + name + " is not " + type_name<T>());
+  T value{};
+  ctx.rc(H5Aread(attr, mem_type<T>(), &value), "cannot read attribute " + where + name);
+  return value;
+}
+
+/// Reads a scalar string from an attribute or a dataset, fixed- or variable-length.
+std::string read_string(const FileContext& ctx, hid_t obj, bool is_attribute,
+                        const std::string& what) {
+  auto type = h5::datatype_handle(
+      ctx.id(is_attribute ? H5Aget_type(obj) : H5Dget_type(obj), "cannot read " + what));
+  if (H5Tget_class(type) != H5T_STRING)
+    ctx.fail(what + " is not a string");
+  auto space = h5::dataspace_handle(
+      ctx.id(is_attribute ? H5Aget_space(obj) : H5Dget_space(obj), "cannot read " + what));
+  if (H5Sget_simple_extent_npoints(space) != 1)
+    ctx.fail(what + " is not a single string");
+  const htri_t variable = H5Tis_variable_str(type);
+  if (variable < 0)
+    ctx.fail("cannot read " + what, true);
+  if (variable > 0) {
+    auto mtype = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot read " + what));
+    ctx.rc(H5Tset_size(mtype, H5T_VARIABLE), "cannot read " + what);
+    ctx.rc(H5Tset_cset(mtype, H5Tget_cset(type)), "cannot read " + what);
+    char* p = nullptr;
+    ctx.rc(is_attribute ? H5Aread(obj, mtype, &p)
+                        : H5Dread(obj, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p),
+           "cannot read " + what);
+    std::string s = p ? p : "";
+    if (p) {
+      if (is_attribute) {
+        H5free_memory(p);
+      } else {
+        H5Dvlen_reclaim(mtype, space, H5P_DEFAULT, &p);
+      }
+    }
+    return s;
+  }
+  const std::size_t size = H5Tget_size(type);
+  if (size == 0)
+    ctx.fail("cannot read " + what, true);
+  auto mtype = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot read " + what));
+  ctx.rc(H5Tset_size(mtype, size), "cannot read " + what);
+  ctx.rc(H5Tset_strpad(mtype, H5T_STR_NULLPAD), "cannot read " + what);
+  ctx.rc(H5Tset_cset(mtype, H5Tget_cset(type)), "cannot read " + what);
+  std::string s(size, '\0');
+  ctx.rc(is_attribute ? H5Aread(obj, mtype, s.data())
+                      : H5Dread(obj, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, s.data()),
+         "cannot read " + what);
+  s.resize(std::strlen(s.c_str())); // strip the padding
+  return s;
+}
+
+std::string read_string_attribute(const FileContext& ctx, hid_t obj, const std::string& where,
+                                  const char* name) {
+  auto attr = open_attribute(ctx, obj, where, name);
+  return read_string(ctx, attr, true, "attribute " + where + name);
+}
+
+// ----------------------------------------------------------------------------------------
+// Datasets: each rank's rows [offset, offset + count) of an [n] or [n, cols] array.
+
+/// A rank's contiguous slice of the rows of a dataset.
+struct Slice {
+  std::int64_t global = 0; ///< rows in the file
+  std::int64_t offset = 0; ///< first row of this rank
+  std::int64_t count = 0;  ///< rows of this rank (may be 0)
+};
+
+/// cols == 0: a 1-D dataset [n]; otherwise [n, cols].
+std::vector<hsize_t> shape(std::int64_t rows, int cols) {
+  if (cols == 0)
+    return {static_cast<hsize_t>(rows)};
+  return {static_cast<hsize_t>(rows), static_cast<hsize_t>(cols)};
+}
+
+Handle group_create(const FileContext& ctx, hid_t file, const char* name) {
+  return h5::group_handle(ctx.id(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                                 std::string("cannot create group ") + name));
+}
+
+Handle group_open(const FileContext& ctx, hid_t file, const char* name) {
+  const htri_t exists = H5Lexists(file, name, H5P_DEFAULT);
+  if (exists < 0)
+    ctx.fail(std::string("cannot look up group ") + name, true);
+  if (exists == 0)
+    ctx.fail(std::string("missing group ") + name);
+  return h5::group_handle(
+      ctx.id(H5Gopen2(file, name, H5P_DEFAULT), std::string("cannot open group ") + name));
+}
+
+/// Selects this rank's rows of `space` (a dataset's or a memory dataspace), or nothing.
+void select_rows(const FileContext& ctx, hid_t space, std::int64_t first, std::int64_t count,
+                 int cols, const std::string& what) {
+  if (count == 0) {
+    ctx.rc(H5Sselect_none(space), "cannot select in " + what);
+    return;
+  }
+  std::vector<hsize_t> cnt = shape(count, cols), st(cnt.size(), 0);
+  st[0] = static_cast<hsize_t>(first);
+  ctx.rc(H5Sselect_hyperslab(space, H5S_SELECT_SET, st.data(), nullptr, cnt.data(), nullptr),
+         "cannot select in " + what);
+}
+
+/// Collective: creates group/name with the global shape and writes this rank's rows.
+template <class T>
+void write_rows(const FileContext& ctx, hid_t group, const std::string& gname, const char* name,
+                const std::vector<T>& local, const Slice& slice, int cols, const char* unit,
+                hid_t dxpl) {
+  const std::string what = gname + "/" + name;
+  const auto dims = shape(slice.global, cols);
+  auto fspace = h5::dataspace_handle(
+      ctx.id(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+             "cannot create the dataspace of " + what));
+  auto dcpl = h5::plist_handle(ctx.id(H5Pcreate(H5P_DATASET_CREATE), "cannot create " + what));
+  ctx.rc(H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER), "cannot create " + what);
+  auto dset = h5::dataset_handle(
+      ctx.id(H5Dcreate2(group, name, file_type<T>(), fspace, H5P_DEFAULT, dcpl, H5P_DEFAULT),
+             "cannot create dataset " + what));
+  write_attribute(ctx, dset, "unit", std::string(unit));
+  if (slice.global == 0)
+    return; // nothing to write, on every rank
+  select_rows(ctx, fspace, slice.offset, slice.count, cols, what);
+  const auto mdims = shape(std::max<std::int64_t>(slice.count, 1), cols);
+  auto mspace = h5::dataspace_handle(
+      ctx.id(H5Screate_simple(static_cast<int>(mdims.size()), mdims.data(), nullptr),
+             "cannot create a memory dataspace for " + what));
+  select_rows(ctx, mspace, 0, slice.count, cols, what);
+  const T dummy{};
+  const T* data = slice.count > 0 ? local.data() : &dummy;
+  ctx.rc(H5Dwrite(dset, mem_type<T>(), mspace, fspace, dxpl, data), "cannot write " + what);
+}
+
+/// Opens group/name and checks its type class and shape against (rows, cols).
+template <class T>
+Handle open_rows(const FileContext& ctx, hid_t group, const std::string& gname, const char* name,
+                 std::int64_t rows, int cols) {
+  const std::string what = gname + "/" + name;
+  const htri_t exists = H5Lexists(group, name, H5P_DEFAULT);
+  if (exists < 0)
+    ctx.fail("cannot look up dataset " + what, true);
+  if (exists == 0)
+    ctx.fail("missing dataset " + what);
+  auto dset =
+      h5::dataset_handle(ctx.id(H5Dopen2(group, name, H5P_DEFAULT), "cannot open dataset " + what));
+  auto type = h5::datatype_handle(ctx.id(H5Dget_type(dset), "cannot read dataset " + what));
+  if (H5Tget_class(type) != type_class<T>())
+    ctx.fail("dataset " + what + " is not " + type_name<T>());
+  auto space = h5::dataspace_handle(ctx.id(H5Dget_space(dset), "cannot read dataset " + what));
+  const int rank = H5Sget_simple_extent_ndims(space);
+  if (rank < 0)
+    ctx.fail("cannot read the shape of dataset " + what, true);
+  const auto want = shape(rows, cols);
+  std::vector<hsize_t> dims(std::max(rank, 1), 0);
+  if (rank > 0)
+    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  if (static_cast<std::size_t>(rank) != want.size() || dims != want) {
+    auto fmt = [](const std::vector<hsize_t>& d, int r) {
+      std::string s = "[";
+      for (int k = 0; k < r; ++k)
+        s += (k ? ", " : "") + std::to_string(d[k]);
+      return s + "]";
+    };
+    ctx.fail("dataset " + what + " has shape " + fmt(dims, rank) + ", expected " +
+             fmt(want, static_cast<int>(want.size())) +
+             " (from the root attributes n_particles/n_contacts and dimension)");
+  }
+  return dset;
+}
+
+/// Collective: reads this rank's rows of an already validated dataset.
+template <class T>
+std::vector<T> read_rows(const FileContext& ctx, hid_t dset, const std::string& what,
+                         const Slice& slice, int cols, hid_t dxpl) {
+  const std::size_t width = cols == 0 ? 1 : static_cast<std::size_t>(cols);
+  std::vector<T> out(static_cast<std::size_t>(slice.count) * width);
+  if (slice.global == 0)
+    return out;
+  auto fspace = h5::dataspace_handle(ctx.id(H5Dget_space(dset), "cannot read " + what));
+  select_rows(ctx, fspace, slice.offset, slice.count, cols, what);
+  const auto mdims = shape(std::max<std::int64_t>(slice.count, 1), cols);
+  auto mspace = h5::dataspace_handle(
+      ctx.id(H5Screate_simple(static_cast<int>(mdims.size()), mdims.data(), nullptr),
+             "cannot create a memory dataspace for " + what));
+  select_rows(ctx, mspace, 0, slice.count, cols, what);
+  T dummy{};
+  ctx.rc(H5Dread(dset, mem_type<T>(), mspace, fspace, dxpl, slice.count > 0 ? out.data() : &dummy),
+         "cannot read " + what);
+  return out;
+}
+
+/// Flattens n fixed-size Eigen vectors into row-major [n, size] doubles.
+template <class V> std::vector<double> flatten(const std::vector<V>& v, std::size_t n) {
+  std::vector<double> out;
+  out.reserve(n * V::SizeAtCompileTime);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int a = 0; a < V::SizeAtCompileTime; ++a)
+      out.push_back(v[i][a]);
+  return out;
+}
+
+template <class V> V row(const std::vector<double>& flat, std::size_t i) {
+  V v;
+  for (int a = 0; a < V::SizeAtCompileTime; ++a)
+    v[a] = flat[i * V::SizeAtCompileTime + a];
+  return v;
+}
+
+// ----------------------------------------------------------------------------------------
+// Files
+
+Handle mpio_fapl(const FileContext& ctx, MPI_Comm comm) {
+  auto fapl = h5::plist_handle(ctx.id(H5Pcreate(H5P_FILE_ACCESS), "cannot create a fapl"));
+  ctx.rc(H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL), "cannot set the MPI-IO driver");
+  return fapl;
+}
+
+Handle collective_dxpl(const FileContext& ctx) {
+  auto dxpl = h5::plist_handle(ctx.id(H5Pcreate(H5P_DATASET_XFER), "cannot create a dxpl"));
+  ctx.rc(H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE), "cannot set collective transfer");
+  return dxpl;
+}
+
+/// Collective. Checks that the file exists and is HDF5, then opens it read-only on comm.
+Handle open_for_reading(MPI_Comm comm, const FileContext& ctx) {
+  h5::silence_errors();
+  collectively_typed(comm, [&] {
+    std::error_code ec;
+    const auto status = std::filesystem::status(ctx.path, ec);
+    if (!std::filesystem::exists(status))
+      ctx.fail("no such file");
+    if (!std::filesystem::is_regular_file(status))
+      ctx.fail("not a regular file");
+    const htri_t is_h5 = H5Fis_hdf5(ctx.path.c_str());
+    if (is_h5 < 0)
+      ctx.fail("cannot be read as HDF5", true);
+    if (is_h5 == 0)
+      ctx.fail("not an HDF5 file");
+  });
+  Handle file;
+  collectively_typed(comm, [&] {
+    auto fapl = mpio_fapl(ctx, comm);
+    file = h5::file_handle(ctx.id(H5Fopen(ctx.path.c_str(), H5F_ACC_RDONLY, fapl),
+                                  "cannot open as HDF5 (truncated or corrupt?)"));
+  });
+  return file;
+}
+
+/// Not collective (metadata reads only). Root attributes and /deck.
+FileMeta read_meta(const FileContext& ctx, hid_t file) {
+  const std::string root = "/";
+  const htri_t has_format = H5Aexists(file, "format");
+  if (has_format <= 0)
+    ctx.fail("not a granpack file (no root attribute 'format')");
+  const std::string format = read_string_attribute(ctx, file, root, "format");
+  if (format != "granpack")
+    ctx.fail("not a granpack file (root attribute format = '" + format + "')");
+  const int version = read_attribute<int>(ctx, file, root, "format_version");
+  if (version < 1 || version > kHdf5FormatVersion)
+    ctx.fail("format_version " + std::to_string(version) +
+             " is not supported (this granpack reads versions 1 to " +
+             std::to_string(kHdf5FormatVersion) + ")");
+  FileMeta m;
+  m.granpack_version = read_string_attribute(ctx, file, root, "granpack_version");
+  m.dimension = read_attribute<int>(ctx, file, root, "dimension");
+  if (m.dimension != 2 && m.dimension != 3)
+    ctx.fail("root attribute dimension = " + std::to_string(m.dimension) + " (must be 2 or 3)");
+  m.n_particles = read_attribute<std::int64_t>(ctx, file, root, "n_particles");
+  m.n_contacts = read_attribute<std::int64_t>(ctx, file, root, "n_contacts");
+  if (m.n_particles < 0 || m.n_contacts < 0)
+    ctx.fail("negative n_particles or n_contacts in the root attributes");
+  m.time = read_attribute<double>(ctx, file, root, "time");
+  m.step = read_attribute<std::int64_t>(ctx, file, root, "step");
+  m.stage_index = read_attribute<int>(ctx, file, root, "stage_index");
+  m.stage_name = read_string_attribute(ctx, file, root, "stage_name");
+  m.kind = read_string_attribute(ctx, file, root, "kind");
+  const htri_t has_deck = H5Lexists(file, "deck", H5P_DEFAULT);
+  if (has_deck < 0)
+    ctx.fail("cannot look up dataset /deck", true);
+  if (has_deck == 0)
+    ctx.fail("missing dataset /deck");
+  auto deck =
+      h5::dataset_handle(ctx.id(H5Dopen2(file, "deck", H5P_DEFAULT), "cannot open dataset /deck"));
+  m.deck_text = read_string(ctx, deck, false, "dataset /deck");
+  return m;
+}
+
+/// Not collective. Reads a small [dim] dataset entirely (used for the cell).
+template <int dim>
+Vec<dim> read_small_vector(const FileContext& ctx, hid_t group, const char* name) {
+  auto dset = open_rows<double>(ctx, group, "/cell", name, dim, 0);
+  Vec<dim> v;
+  ctx.rc(H5Dread(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
+         std::string("cannot read /cell/") + name);
+  return v;
+}
+
+template <int dim> Cell<dim> read_cell(const FileContext& ctx, hid_t file) {
+  auto g = group_open(ctx, file, "cell");
+  Cell<dim> cell;
+  cell.length = read_small_vector<dim>(ctx, g, "length");
+  cell.rate = read_small_vector<dim>(ctx, g, "rate");
+  for (int a = 0; a < dim; ++a)
+    if (!(cell.length[a] > 0) || !std::isfinite(cell.length[a]))
+      ctx.fail("/cell/length has a non-positive or non-finite component");
+  return cell;
+}
+
+/// Local consistency checks before any HDF5 call of a write.
+template <int dim> void validate_for_write(const Configuration<dim>& c, const FileContext& ctx) {
+  const auto& p = c.particles;
+  const std::size_t n = p.n_owned();
+  if (p.radius.size() < n || p.mass.size() < n || p.inertia.size() < n || p.position.size() < n ||
+      p.velocity.size() < n || p.angular_velocity.size() < n || p.orientation.size() < n)
+    ctx.fail("particle arrays shorter than the number of owned particles");
+  for (std::size_t i = 0; i < n; ++i)
+    if (p.id[i] < 0)
+      ctx.fail("particle with negative id " + std::to_string(p.id[i]));
+  for (std::size_t k = 0; k < c.contacts.size(); ++k) {
+    const auto& key = c.contacts.key(k);
+    if (key.first < 0 || key.first >= key.second)
+      ctx.fail("contact key (" + std::to_string(key.first) + ", " + std::to_string(key.second) +
+               ") is not (first < second, both >= 0)");
+  }
+  if (!c.meta.kind.empty() && c.meta.kind != "configuration" && c.meta.kind != "checkpoint")
+    ctx.fail("kind '" + c.meta.kind + "' is neither 'configuration' nor 'checkpoint'");
+  for (int a = 0; a < dim; ++a)
+    if (!(c.cell.length[a] > 0) || !std::isfinite(c.cell.length[a]))
+      ctx.fail("cell length has a non-positive or non-finite component");
+}
+
+/// Collective: writes the whole file at `temp` (closed on return or on throw).
+template <int dim>
+void write_file(MPI_Comm comm, const FileContext& ctx, const Configuration<dim>& c, const Slice& ps,
+                const Slice& cs) {
+  constexpr int rd = rot_dim<dim>, od = orient_dim<dim>;
+  auto fapl = mpio_fapl(ctx, comm);
+  auto file = h5::file_handle(
+      ctx.id(H5Fcreate(ctx.path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), "cannot create"));
+  auto dxpl = collective_dxpl(ctx);
+
+  // Root attributes (collective metadata: every rank passes the same values).
+  const FileMeta& m = c.meta;
+  write_attribute(ctx, file, "format", std::string("granpack"));
+  write_attribute(ctx, file, "format_version", kHdf5FormatVersion);
+  write_attribute(ctx, file, "granpack_version",
+                  m.granpack_version.empty() ? std::string(GRANPACK_VERSION) : m.granpack_version);
+  write_attribute(ctx, file, "dimension", dim);
+  write_attribute(ctx, file, "n_particles", ps.global);
+  write_attribute(ctx, file, "n_contacts", cs.global);
+  write_attribute(ctx, file, "time", m.time);
+  write_attribute(ctx, file, "step", m.step);
+  write_attribute(ctx, file, "stage_index", m.stage_index);
+  write_attribute(ctx, file, "stage_name", m.stage_name);
+  write_attribute(ctx, file, "kind", m.kind.empty() ? std::string("configuration") : m.kind);
+
+  // /deck: a scalar fixed-length string (parallel HDF5 cannot write variable-length data),
+  // written by rank 0 alone with independent I/O.
+  {
+    const std::string& text = m.deck_text;
+    auto type = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot create /deck"));
+    ctx.rc(H5Tset_size(type, std::max<std::size_t>(text.size(), 1)), "cannot create /deck");
+    ctx.rc(H5Tset_strpad(type, H5T_STR_NULLPAD), "cannot create /deck");
+    ctx.rc(H5Tset_cset(type, H5T_CSET_UTF8), "cannot create /deck");
+    auto space = scalar_space(ctx);
+    auto deck = h5::dataset_handle(
+        ctx.id(H5Dcreate2(file, "deck", type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+               "cannot create dataset /deck"));
+    if (comm_rank(comm) == 0) {
+      std::string padded = text.empty() ? std::string(1, '\0') : text;
+      ctx.rc(H5Dwrite(deck, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()),
+             "cannot write /deck");
+    }
+  }
+
+  {
+    auto g = group_create(ctx, file, "cell");
+    const Slice whole{dim, 0, comm_rank(comm) == 0 ? dim : 0};
+    std::vector<double> length(c.cell.length.data(), c.cell.length.data() + dim);
+    std::vector<double> rate(c.cell.rate.data(), c.cell.rate.data() + dim);
+    write_rows(ctx, g, "/cell", "length", length, whole, 0, "m", dxpl);
+    write_rows(ctx, g, "/cell", "rate", rate, whole, 0, "m/s", dxpl);
+  }
+
+  {
+    const auto& p = c.particles;
+    const std::size_t n = static_cast<std::size_t>(ps.count);
+    auto g = group_create(ctx, file, "particles");
+    const std::string gn = "/particles";
+    std::vector<std::int64_t> id(p.id.begin(), p.id.begin() + n);
+    write_rows(ctx, g, gn, "id", id, ps, 0, "1", dxpl);
+    std::vector<double> v(p.radius.begin(), p.radius.begin() + n);
+    write_rows(ctx, g, gn, "radius", v, ps, 0, "m", dxpl);
+    v.assign(p.mass.begin(), p.mass.begin() + n);
+    write_rows(ctx, g, gn, "mass", v, ps, 0, "kg", dxpl);
+    v.assign(p.inertia.begin(), p.inertia.begin() + n);
+    write_rows(ctx, g, gn, "inertia", v, ps, 0, "kg m^2", dxpl);
+    write_rows(ctx, g, gn, "scaled_position", flatten(p.position, n), ps, dim, "1", dxpl);
+    std::vector<Vec<dim>> real(n);
+    for (std::size_t i = 0; i < n; ++i)
+      real[i] = c.cell.to_real(p.position[i]);
+    write_rows(ctx, g, gn, "position", flatten(real, n), ps, dim, "m", dxpl);
+    write_rows(ctx, g, gn, "velocity", flatten(p.velocity, n), ps, dim, "m/s", dxpl);
+    write_rows(ctx, g, gn, "angular_velocity", flatten(p.angular_velocity, n), ps, rd, "rad/s",
+               dxpl);
+    write_rows(ctx, g, gn, "orientation", flatten(p.orientation, n), ps, od, dim == 2 ? "rad" : "1",
+               dxpl);
+  }
+  run_write_hook("after_particles");
+
+  {
+    const auto& cst = c.contacts;
+    const std::size_t nc = cst.size();
+    auto g = group_create(ctx, file, "contacts");
+    const std::string gn = "/contacts";
+    std::vector<std::int64_t> first(nc), second(nc), age(nc);
+    std::vector<double> normal(nc), tangential, rolling;
+    std::vector<std::uint32_t> flags(nc);
+    tangential.reserve(nc * dim);
+    rolling.reserve(nc * rd);
+    for (std::size_t k = 0; k < nc; ++k) {
+      const auto& s = cst.state(k);
+      first[k] = cst.key(k).first;
+      second[k] = cst.key(k).second;
+      normal[k] = s.normal_force;
+      for (int a = 0; a < dim; ++a)
+        tangential.push_back(s.tangential_force[a]);
+      for (int a = 0; a < rd; ++a)
+        rolling.push_back(s.rolling[a]);
+      flags[k] = s.flags;
+      age[k] = s.age;
+    }
+    write_rows(ctx, g, gn, "first", first, cs, 0, "1", dxpl);
+    write_rows(ctx, g, gn, "second", second, cs, 0, "1", dxpl);
+    write_rows(ctx, g, gn, "normal_force", normal, cs, 0, "N", dxpl);
+    write_rows(ctx, g, gn, "tangential_force", tangential, cs, dim, "N", dxpl);
+    write_rows(ctx, g, gn, "rolling", rolling, cs, rd, "rad", dxpl);
+    write_rows(ctx, g, gn, "flags", flags, cs, 0, "1", dxpl);
+    write_rows(ctx, g, gn, "age", age, cs, 0, "steps", dxpl);
+  }
+  dxpl.reset();
+  if (!file.reset())
+    ctx.fail("cannot close (flush) the file", true);
+}
+
+/// This rank's rows [n*r/P, n*(r+1)/P) of n.
+Slice even_slice(std::int64_t n, int rank, int size) {
+  const std::int64_t lo = n * rank / size, hi = n * (rank + 1) / size;
+  return {n, lo, hi - lo};
+}
+
+} // namespace
+
+namespace detail {
+void set_hdf5_write_hook(std::function<void(std::string_view)> hook) {
+  write_hook() = std::move(hook);
+}
+} // namespace detail
+
+template <int dim>
+void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
+                         const Configuration<dim>& c) {
+  h5::silence_errors();
+  const int rank = comm_rank(comm);
+  const FileContext target{path, false};
+  const FileContext temp{temp_path_for(path), false};
+  collectively(comm, [&] { validate_for_write(c, target); });
+
+  // Offsets of this rank's slices: exclusive prefix sums of the owned counts.
+  std::int64_t local[2] = {static_cast<std::int64_t>(c.particles.n_owned()),
+                           static_cast<std::int64_t>(c.contacts.size())};
+  std::int64_t offset[2] = {0, 0}, total[2] = {0, 0};
+  MPI_Exscan(local, offset, 2, MPI_INT64_T, MPI_SUM, comm);
+  if (rank == 0)
+    offset[0] = offset[1] = 0; // MPI_Exscan leaves rank 0's result undefined
+  MPI_Allreduce(local, total, 2, MPI_INT64_T, MPI_SUM, comm);
+  const Slice ps{total[0], offset[0], local[0]}, cs{total[1], offset[1], local[1]};
+
+  CollectiveError err;
+  try {
+    write_file(comm, temp, c, ps, cs);
+    run_write_hook("before_rename");
+  } catch (const Error& e) {
+    err.record(e.what(), e.exit_code());
+  } catch (const std::exception& e) {
+    err.record(temp.path.string() + ": " + e.what());
+  }
+  try {
+    err.raise_if_any(comm); // also the barrier: every rank has closed the file
+  } catch (...) {
+    if (rank == 0) {
+      std::error_code ec;
+      std::filesystem::remove(temp.path, ec);
+    }
+    MPI_Barrier(comm);
+    throw;
+  }
+  collectively(comm, [&] {
+    if (rank != 0)
+      return;
+    commit_temp_file(temp.path, path);
+    XdmfParticles x{path.filename().string(), dim, ps.global, c.meta.time};
+    write_particles_xdmf(xdmf_path_for(path), x);
+  });
+}
+
+template <int dim>
+Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path& path) {
+  constexpr int rd = rot_dim<dim>, od = orient_dim<dim>;
+  const FileContext ctx{path, true};
+  auto file = open_for_reading(comm, ctx);
+  const int rank = comm_rank(comm), size = comm_size(comm);
+
+  Configuration<dim> c;
+  Handle pg, cg;
+  // Particle datasets, then contact datasets, in a fixed order.
+  struct Entry {
+    const char* name;
+    bool particle;
+    int cols;
+    Handle dset;
+  };
+  std::vector<Entry> entries;
+  // Metadata and shapes first (independent reads): a bad file fails here on every rank,
+  // before any collective data transfer.
+  collectively_typed(comm, [&] {
+    c.meta = read_meta(ctx, file);
+    if (c.meta.dimension != dim)
+      ctx.fail("holds a " + std::to_string(c.meta.dimension) + "-D configuration, expected " +
+               std::to_string(dim) + "-D");
+    c.cell = read_cell<dim>(ctx, file);
+    pg = group_open(ctx, file, "particles");
+    cg = group_open(ctx, file, "contacts");
+    const std::int64_t n = c.meta.n_particles, nc = c.meta.n_contacts;
+    auto add = [&]<class T>(const char* name, bool particle, int cols, T) {
+      entries.push_back(
+          {name, particle, cols,
+           open_rows<T>(ctx, particle ? pg.get() : cg.get(), particle ? "/particles" : "/contacts",
+                        name, particle ? n : nc, cols)});
+    };
+    add("id", true, 0, std::int64_t{});
+    add("radius", true, 0, double{});
+    add("mass", true, 0, double{});
+    add("inertia", true, 0, double{});
+    add("scaled_position", true, dim, double{});
+    add("velocity", true, dim, double{});
+    add("angular_velocity", true, rd, double{});
+    add("orientation", true, od, double{});
+    add("first", false, 0, std::int64_t{});
+    add("second", false, 0, std::int64_t{});
+    add("normal_force", false, 0, double{});
+    add("tangential_force", false, dim, double{});
+    add("rolling", false, rd, double{});
+    add("flags", false, 0, std::uint32_t{});
+    add("age", false, 0, std::int64_t{});
+  });
+
+  const Slice ps = even_slice(c.meta.n_particles, rank, size);
+  const Slice cs = even_slice(c.meta.n_contacts, rank, size);
+  collectively_typed(comm, [&] {
+    auto dxpl = collective_dxpl(ctx);
+    auto what = [](const Entry& e) {
+      return std::string(e.particle ? "/particles/" : "/contacts/") + e.name;
+    };
+    auto f64 = [&](int k) {
+      const auto& e = entries[k];
+      return read_rows<double>(ctx, e.dset, what(e), e.particle ? ps : cs, e.cols, dxpl);
+    };
+    auto i64 = [&](int k) {
+      const auto& e = entries[k];
+      return read_rows<std::int64_t>(ctx, e.dset, what(e), e.particle ? ps : cs, e.cols, dxpl);
+    };
+    const auto id = i64(0);
+    const auto radius = f64(1), mass = f64(2), inertia = f64(3), spos = f64(4), vel = f64(5),
+               omega = f64(6), orient = f64(7);
+    const auto first = i64(8), second = i64(9), age = i64(14);
+    const auto normal = f64(10), tangential = f64(11), rolling = f64(12);
+    const auto flags =
+        read_rows<std::uint32_t>(ctx, entries[13].dset, "/contacts/flags", cs, 0, dxpl);
+    entries.clear(); // close the datasets before the file
+
+    const auto np = static_cast<std::size_t>(ps.count), nc = static_cast<std::size_t>(cs.count);
+    c.particles.reserve(np);
+    for (std::size_t i = 0; i < np; ++i) {
+      Particle<dim> q;
+      q.id = id[i];
+      if (q.id < 0)
+        ctx.fail("/particles/id row " + std::to_string(ps.offset + i) + " is negative");
+      q.radius = radius[i];
+      q.mass = mass[i];
+      q.inertia = inertia[i];
+      q.position = row<Vec<dim>>(spos, i);
+      q.velocity = row<Vec<dim>>(vel, i);
+      q.angular_velocity = row<RotVec<dim>>(omega, i);
+      q.orientation = row<OrientVec<dim>>(orient, i);
+      c.particles.add_owned(q);
+    }
+    for (std::size_t k = 0; k < nc; ++k) {
+      if (first[k] < 0 || first[k] >= second[k])
+        ctx.fail("/contacts row " + std::to_string(cs.offset + k) +
+                 " has first = " + std::to_string(first[k]) +
+                 ", second = " + std::to_string(second[k]) + " (need 0 <= first < second)");
+      ContactState<dim> s;
+      s.normal_force = normal[k];
+      s.tangential_force = row<Vec<dim>>(tangential, k);
+      s.rolling = row<RotVec<dim>>(rolling, k);
+      s.flags = flags[k];
+      s.age = age[k];
+      c.contacts.insert({first[k], second[k]}, s);
+    }
+    if (c.contacts.size() != nc)
+      ctx.fail("/contacts holds duplicate keys");
+  });
+  return c;
+}
+
+FileMeta read_file_meta(MPI_Comm comm, const std::filesystem::path& path) {
+  const FileContext ctx{path, true};
+  auto file = open_for_reading(comm, ctx);
+  FileMeta m;
+  collectively_typed(comm, [&] { m = read_meta(ctx, file); });
+  return m;
+}
+
+std::string describe_file(MPI_Comm comm, const std::filesystem::path& path) {
+  const FileContext ctx{path, true};
+  auto file = open_for_reading(comm, ctx);
+  FileMeta m;
+  std::vector<double> length, rate;
+  collectively_typed(comm, [&] {
+    m = read_meta(ctx, file);
+    auto to_vec = [](const auto& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+    if (m.dimension == 2) {
+      auto cell = read_cell<2>(ctx, file);
+      length = to_vec(cell.length), rate = to_vec(cell.rate);
+    } else {
+      auto cell = read_cell<3>(ctx, file);
+      length = to_vec(cell.length), rate = to_vec(cell.rate);
+    }
+  });
+  auto join = [](const std::vector<double>& v, const char* sep) {
+    std::ostringstream os;
+    os.precision(10);
+    for (std::size_t a = 0; a < v.size(); ++a)
+      os << (a ? sep : "") << v[a];
+    return os.str();
+  };
+  std::ostringstream os;
+  os.precision(10);
+  os << "file:        " << path.string() << "\n"
+     << "kind:        " << m.kind << " (written by granpack " << m.granpack_version << ")\n"
+     << "dimension:   " << m.dimension << "\n"
+     << "particles:   " << m.n_particles << "\n"
+     << "contacts:    " << m.n_contacts << "\n"
+     << "cell:        L = " << join(length, " x ") << " m, dL/dt = (" << join(rate, ", ")
+     << ") m/s\n"
+     << "time:        " << m.time << " s (step " << m.step << ")\n"
+     << "stage:       " << m.stage_index << (m.stage_name.empty() ? "" : " '" + m.stage_name + "'")
+     << "\n"
+     << "deck:        " << m.deck_text.size() << " bytes\n";
+  return os.str();
+}
+
+template void write_configuration<2>(MPI_Comm, const std::filesystem::path&,
+                                     const Configuration<2>&);
+template void write_configuration<3>(MPI_Comm, const std::filesystem::path&,
+                                     const Configuration<3>&);
+template Configuration<2> read_configuration<2>(MPI_Comm, const std::filesystem::path&);
+template Configuration<3> read_configuration<3>(MPI_Comm, const std::filesystem::path&);
+
+} // namespace granpack
