@@ -2,6 +2,8 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+
 #include "granpack/comm/particle_packing.h"
 #include "granpack/core/error.h"
 
@@ -100,6 +102,32 @@ template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decompos
       for (int a = 0; a < dim; ++a) p.force[i][a] += in[pos++];
       for (int a = 0; a < rot_dim<dim>; ++a) p.torque[i][a] += in[pos++];
     }
+  }
+}
+
+template <int dim>
+void Halo<dim>::forward_values(std::vector<double>& values, const Decomposition<dim>& d) const {
+  std::vector<double> buf;
+  for (const Swap& sw : swaps_) {
+    buf.clear();
+    for (std::size_t i : sw.send) buf.push_back(values[i]);
+    std::vector<double> in = sendrecv(d.comm(), buf, sw.to, sw.from);
+    GRANPACK_CHECK(in.size() == sw.recv_count, "halo forward_values: ghost count changed");
+    std::copy(in.begin(), in.end(), values.begin() + static_cast<std::ptrdiff_t>(sw.recv_first));
+  }
+}
+
+template <int dim>
+void Halo<dim>::reverse_values(std::vector<double>& values, const Decomposition<dim>& d) const {
+  std::vector<double> buf;
+  for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
+    const Swap& sw = *it;
+    buf.assign(values.begin() + static_cast<std::ptrdiff_t>(sw.recv_first),
+               values.begin() + static_cast<std::ptrdiff_t>(sw.recv_first + sw.recv_count));
+    std::fill_n(values.begin() + static_cast<std::ptrdiff_t>(sw.recv_first), sw.recv_count, 0.0);
+    std::vector<double> in = sendrecv(d.comm(), buf, sw.from, sw.to);
+    GRANPACK_CHECK(in.size() == sw.send.size(), "halo reverse_values: ghost count changed");
+    for (std::size_t k = 0; k < sw.send.size(); ++k) values[sw.send[k]] += in[k];
   }
 }
 

@@ -27,6 +27,11 @@ public:
   /// Adds ghost forces/torques into their owners (and zeroes them on the ghosts).
   void reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) const;
 
+  /// Copies a per-particle value (indexed like the store) from owners to their ghosts.
+  void forward_values(std::vector<double>& values, const Decomposition<dim>& d) const;
+  /// Adds ghost values into their owners (and zeroes them on the ghosts).
+  void reverse_values(std::vector<double>& values, const Decomposition<dim>& d) const;
+
 private:
   struct Swap {
     int axis = 0;
