@@ -8,7 +8,7 @@
 namespace granpack {
 
 bool stage_implemented(const std::string& kind) {
-  return kind == "lattice" || kind == "set" || kind == "write";
+  return kind == "lattice" || kind == "compress" || kind == "set" || kind == "write";
 }
 
 template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file) {

@@ -10,6 +10,7 @@ namespace granpack {
 bool stage_implemented(const std::string& kind);
 
 template <int dim> StageReport run_lattice(RunContext<dim>& ctx, const LatticeStage& p);
+template <int dim> StageReport run_compress(RunContext<dim>& ctx, const CompressStage& p);
 template <int dim> StageReport run_set(RunContext<dim>& ctx, const SetStage& p);
 template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage& p);
 

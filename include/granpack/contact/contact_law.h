@@ -1,0 +1,131 @@
+#pragma once
+// The contact law: independent sub-models (normal elasticity, normal damping, tangential
+// elasticity, Coulomb friction; slots for cohesion and rolling resistance) composed into one
+// small value type with force() and stiffness(). Header-only: force() is the hot loop.
+// Conventions and formulas: docs/contact-law.md.
+#include <optional>
+
+#include "granpack/contact/cohesion.h"
+#include "granpack/contact/normal_damping.h"
+#include "granpack/contact/normal_elasticity.h"
+#include "granpack/contact/pair_geometry.h"
+#include "granpack/contact/rolling_resistance.h"
+#include "granpack/contact/tangential.h"
+#include "granpack/core/contact_store.h"
+#include "granpack/core/vec.h"
+
+namespace granpack {
+
+/// Velocities of the two grains. v_i, v_j must include the affine part of the cell
+/// deformation (the caller adds it); ω about z (1 component) in 2D, 3 components in 3D.
+template <int dim> struct ContactKinematics {
+  Vec<dim> v_i = Vec<dim>::Zero(), v_j = Vec<dim>::Zero();
+  RotVec<dim> w_i = RotVec<dim>::Zero(), w_j = RotVec<dim>::Zero();
+};
+
+/// Result of one evaluation.
+template <int dim> struct ContactForces {
+  bool active = false;                       ///< false: no interaction, state was reset
+  Vec<dim> force_on_j = Vec<dim>::Zero();    ///< N n + T, transmitted from i to j; on i: -it
+  RotVec<dim> torque_i = RotVec<dim>::Zero();
+  RotVec<dim> torque_j = RotVec<dim>::Zero();
+  double normal_elastic = 0;                 ///< N^e (stress, Coulomb, rattlers)
+  double normal_total = 0;                   ///< N = N^e + N^v
+  Vec<dim> tangential = Vec<dim>::Zero();    ///< T (on j)
+};
+
+/// Local constitutive stiffness at the current state (rigidity assembles G^T 𝒦 G).
+struct ContactStiffness {
+  double k_n = 0;        ///< dN/dh
+  double k_t = 0;        ///< dT/du_T (elastic)
+  double k_r = 0;        ///< rolling stiffness (slot, 0 until rolling resistance exists)
+  bool sliding = false;  ///< last update was on the Coulomb cone
+};
+
+template <int dim> struct ContactLaw {
+  NormalElasticity normal = HertzNormal{};
+  NormalDamping damping{};
+  TangentialElasticity tangential{};
+  CoulombFriction friction{};
+  std::optional<Cohesion> cohesion;          ///< slot: [GRC] eq. 4-5, not implemented yet
+  std::optional<RollingResistance> rolling;  ///< slot: [GRC] eq. 9-10, not implemented yet
+
+  /// Largest gap (-h) at which a pair interacts: 0 without cohesion, D0 with it.
+  double interaction_range() const { return cohesion ? cohesion->d0 : 0.0; }
+  /// True when the pair interacts at this geometry.
+  bool interacts(const PairGeometry<dim>& g) const {
+    return g.overlap > 0 || (cohesion && -g.overlap < cohesion->d0);
+  }
+
+  /// One update of the contact over a time step dt: reads and updates `state`
+  /// (normal_force = N^e, tangential_force = T, kSliding, age + 1). When the pair does not
+  /// interact, returns active = false with zero forces and resets state.
+  ContactForces<dim> force(const PairGeometry<dim>& g, const ContactKinematics<dim>& kin,
+                           ContactState<dim>& state, double dt) const {
+    ContactForces<dim> out;
+    if (!(g.overlap > 0)) {
+      // Cohesion slot: distant interactions (kDistant, normal force only) go here.
+      state = ContactState<dim>{};
+      return out;
+    }
+    out.active = true;
+    const Vec<dim>& n = g.normal;
+    const Vec<dim> b_i = g.branch_i(), b_j = g.branch_j();
+
+    // Relative velocity of j's contact point with respect to i's.
+    const Vec<dim> v_ij = kin.v_j - kin.v_i;
+    const Vec<dim> dv = v_ij + spin_velocity<dim>(kin.w_j, b_j) - spin_velocity<dim>(kin.w_i, b_i);
+    const double dv_n = n.dot(dv);
+    const double h_dot = -dv_n;
+    const Vec<dim> dv_t = dv - dv_n * n;
+
+    // Normal elasticity and damping.
+    const NormalResponse nr = normal_response(normal, g.overlap, g.effective_radius);
+    const double n_visc = damping.coefficient(g.effective_mass, nr.stiffness) * h_dot;
+
+    // Tangential: transport (App. B), Walton (App. A), increment (eq. 3), Coulomb.
+    Vec<dim> t = transport_tangential<dim>(
+        state.tangential_force, contact_rotation<dim>(g, v_ij, kin.w_i, kin.w_j, dt), n);
+    if (tangential.walton_rescaling && tangential.proportional_to_normal() &&
+        nr.force < state.normal_force)
+      t *= normal_stiffness_ratio(normal, nr.force, state.normal_force);
+    const double k_t = tangential.stiffness(nr.stiffness);
+    t -= (k_t * dt) * dv_t;
+    state.flags &= ~static_cast<std::uint32_t>(kSliding);
+    if (!friction.unlimited()) {
+      const double limit = friction.mu * nr.force;
+      const double t2 = t.squaredNorm();
+      if (t2 > limit * limit) {
+        t = limit > 0 ? Vec<dim>(t * (limit / std::sqrt(t2))) : Vec<dim>::Zero();
+        state.flags |= kSliding;
+      }
+    }
+
+    // Cohesion slot: -F0 added to the total normal force here (not to N^e).
+    // Rolling slot: elastic/plastic update of state.rolling, moment ±Γ^r added to torques.
+
+    out.normal_elastic = nr.force;
+    out.normal_total = nr.force + n_visc;
+    out.tangential = t;
+    out.force_on_j = out.normal_total * n + t;
+    out.torque_j = moment<dim>(b_j, out.force_on_j);
+    out.torque_i = moment<dim>(b_i, Vec<dim>(-out.force_on_j));
+
+    state.normal_force = nr.force;
+    state.tangential_force = t;
+    ++state.age;
+    return out;
+  }
+
+  /// Local stiffness at the current geometry and state.
+  ContactStiffness stiffness(const PairGeometry<dim>& g, const ContactState<dim>& state) const {
+    ContactStiffness k;
+    k.k_n = normal_response(normal, g.overlap, g.effective_radius).stiffness;
+    k.k_t = tangential.stiffness(k.k_n);
+    k.k_r = 0.0;  // rolling slot
+    k.sliding = (state.flags & kSliding) != 0;
+    return k;
+  }
+};
+
+}  // namespace granpack

@@ -1,0 +1,19 @@
+#pragma once
+// Normal viscous damping ([AR] eq. 4-5, [GRC] eq. 6): N^v = α ḣ with
+// α = ζ · 2 sqrt(m* K_N(h)), a fraction ζ of the critical damping of the linear spring K_N(h)
+// carrying the reduced mass m*. For equal masses m (m* = m/2): α = ζ sqrt(2 m K_N) (eq. 5).
+// Active only in true contact (h > 0); the viscous force may be attractive (not clipped).
+#include <cmath>
+
+namespace granpack {
+
+struct NormalDamping {
+  double zeta = 0;  ///< fraction of critical damping, in [0, 1)
+
+  /// α(h) for reduced mass m* and current normal stiffness K_N(h).
+  double coefficient(double m_eff, double k_n) const {
+    return zeta > 0 ? 2.0 * zeta * std::sqrt(m_eff * k_n) : 0.0;
+  }
+};
+
+}  // namespace granpack

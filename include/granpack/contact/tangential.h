@@ -1,0 +1,105 @@
+#pragma once
+// Tangential elasticity, Coulomb friction and objective transport of the tangential force.
+//
+// T is the tangential part of the force exerted BY i ON j. With dv_t the tangential velocity
+// of j's surface relative to i's at the contact point, the elastic increment is
+// dT = -K_T dv_t dt ([AR] eq. 3). Coulomb: |T| <= μ N^e ([GRC] eq. 8), N^e elastic only.
+// Walton ([AR] App. A): when N^e decreases, T is first scaled by K_T(N_new)/K_T(N_old).
+// Transport ([AR] App. B, eqs. B3-B5): T rotates with the contact region by
+// Δθ = n x Δn + ½ n·(Δθ_i + Δθ_j) n, Δn = (1 - n⊗n)(v_j - v_i) dt / |r_ij| (B2, velocity form).
+#include <cmath>
+#include <limits>
+
+#include "granpack/contact/pair_geometry.h"
+#include "granpack/core/vec.h"
+
+namespace granpack {
+
+enum class TangentialStiffnessKind {
+  kMindlin,   ///< K_T = (2-2ν)/(2-ν) K_N(h)  ([AR] eq. 3)
+  kRatio,     ///< K_T = ratio · K_N(h)
+  kConstant,  ///< K_T constant (linear law)
+};
+
+/// Tangential stiffness sub-model.
+struct TangentialElasticity {
+  TangentialStiffnessKind kind = TangentialStiffnessKind::kMindlin;
+  double value = 0;  ///< kMindlin, kRatio: K_T/K_N; kConstant: K_T
+  bool walton_rescaling = true;  ///< [AR] App. A; switch exists for tests and studies only
+
+  /// (2-2ν)/(2-ν) for Poisson ratio ν.
+  static double mindlin_ratio(double nu) { return (2.0 - 2.0 * nu) / (2.0 - nu); }
+  static TangentialElasticity mindlin(double nu) {
+    return {TangentialStiffnessKind::kMindlin, mindlin_ratio(nu), true};
+  }
+  static TangentialElasticity ratio(double k_t_over_k_n) {
+    return {TangentialStiffnessKind::kRatio, k_t_over_k_n, true};
+  }
+  static TangentialElasticity constant(double k_t) {
+    return {TangentialStiffnessKind::kConstant, k_t, true};
+  }
+
+  /// True when K_T follows K_N (then Walton rescaling uses K_N(N_new)/K_N(N_old)).
+  bool proportional_to_normal() const { return kind != TangentialStiffnessKind::kConstant; }
+  /// K_T given the current K_N(h) (0 out of contact).
+  double stiffness(double k_n) const {
+    if (!(k_n > 0)) return 0.0;
+    return proportional_to_normal() ? value * k_n : value;
+  }
+};
+
+/// Coulomb friction sub-model; μ may be 0 (T = 0) or +infinity (never slides).
+struct CoulombFriction {
+  double mu = 0;
+
+  static constexpr double unlimited_mu() { return std::numeric_limits<double>::infinity(); }
+  bool unlimited() const { return std::isinf(mu); }
+};
+
+/// Rotation vector of the contact region over one step, [AR] eqs. B2, B4, B5 in velocity form:
+/// rolling n x Δn with Δn = (1 - n⊗n)(v_j - v_i) dt/|r_ij| (v including the affine part of
+/// the cell deformation), plus in 3D pivoting ½ n·(ω_i + ω_j) dt n. In 2D pivoting does not
+/// exist: the rotation (about z) is the rolling part only.
+template <int dim>
+inline RotVec<dim> contact_rotation(const PairGeometry<dim>& g, const Vec<dim>& v_ij,
+                                    const RotVec<dim>& w_i, const RotVec<dim>& w_j, double dt) {
+  const Vec<dim>& n = g.normal;
+  const Vec<dim> dn = (v_ij - n.dot(v_ij) * n) * (dt / g.distance);
+  RotVec<dim> theta = moment<dim>(n, dn);
+  if constexpr (dim == 3) {
+    theta += (0.5 * dt * n.dot(w_i + w_j)) * n;
+  } else {
+    (void)w_i;
+    (void)w_j;
+  }
+  return theta;
+}
+
+/// Rotates t by the rotation vector theta (Rodrigues; in 2D an angle about z), then removes
+/// any normal component left with respect to n and restores |t|: T stays exactly tangent and
+/// its magnitude is not changed by transport.
+template <int dim>
+inline Vec<dim> transport_tangential(const Vec<dim>& t, const RotVec<dim>& theta,
+                                     const Vec<dim>& n) {
+  const double magnitude = t.norm();
+  if (magnitude == 0) return t;
+  Vec<dim> r;
+  if constexpr (dim == 3) {
+    const double angle = theta.norm();
+    if (angle > 0) {
+      const Vec<3> k = theta / angle;
+      const double c = std::cos(angle), s = std::sin(angle);
+      r = c * t + s * k.cross(t) + ((1.0 - c) * k.dot(t)) * k;
+    } else {
+      r = t;
+    }
+  } else {
+    const double c = std::cos(theta[0]), s = std::sin(theta[0]);
+    r = Vec<2>(c * t[0] - s * t[1], s * t[0] + c * t[1]);
+  }
+  r -= n.dot(r) * n;
+  const double rn = r.norm();
+  return rn > 0 ? Vec<dim>(r * (magnitude / rn)) : Vec<dim>::Zero();
+}
+
+}  // namespace granpack

@@ -1,0 +1,75 @@
+#pragma once
+// The force loop: every pair of the Verlet list is evaluated once with the contact law, the
+// forces and torques are added to both grains (ghosts included: the comm layer sends ghost
+// contributions back to their owners), and the stress virial is accumulated.
+//
+// Contact histories live in the ContactStore (keyed by global ids). To keep hash look-ups out
+// of the hot loop, each Verlet pair caches the index of its contact in the store; the cache is
+// rebuilt after every list rebuild (bind()), right after the store was compacted. Contacts
+// that stop interacting are reset in place (age 0) and erased at the next compaction.
+// MPI-free.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "granpack/contact/contact_law.h"
+#include "granpack/core/system.h"
+#include "granpack/neighbor/verlet_list.h"
+
+namespace granpack {
+
+template <int dim> using Tensor = Eigen::Matrix<double, dim, dim>;
+
+/// What one force evaluation measured on this rank's pairs.
+template <int dim> struct ForceSums {
+  Tensor<dim> virial = Tensor<dim>::Zero();          ///< sum F_ij (x) r_ij, all contact forces
+  Tensor<dim> virial_elastic = Tensor<dim>::Zero();  ///< the same with elastic forces only
+  std::int64_t interacting = 0;                      ///< pairs in contact
+  double max_overlap = 0;                            ///< largest h / min(R_i, R_j)
+};
+
+template <int dim> class ContactForceLoop {
+public:
+  /// Drops reset contacts from the store and caches, for every pair of the freshly built
+  /// list, the index of its contact (or -1). Call after every list rebuild.
+  void bind(const ParticleStore<dim>& p, const VerletList<dim>& list, ContactStore<dim>& store);
+
+  /// Zeroes forces/torques, then evaluates every listed pair over a step dt.
+  ForceSums<dim> compute(System<dim>& sys, const VerletList<dim>& list, const ContactLaw<dim>& law,
+                         double dt);
+
+  /// Elastic contact force on each local particle (owned + ghost, ghosts still to be reduced
+  /// by the caller): F^el = N^e n + T of the stored states. For the equilibrium criterion.
+  void elastic_forces(const System<dim>& sys, const VerletList<dim>& list,
+                      std::vector<Vec<dim>>& out) const;
+
+  /// Calls f(i, j, n, state) for every pair currently in contact (state.age > 0).
+  template <class F>
+  void for_each_contact(const System<dim>& sys, const VerletList<dim>& list, F&& f) const;
+
+private:
+  std::vector<std::ptrdiff_t> slot_;  ///< per listed pair: index in the ContactStore or -1
+};
+
+template <int dim>
+template <class F>
+void ContactForceLoop<dim>::for_each_contact(const System<dim>& sys, const VerletList<dim>& list,
+                                             F&& f) const {
+  const auto& p = sys.particles;
+  const auto& off = list.offsets();
+  const auto& nb = list.neighbor_array();
+  for (std::size_t i = 0; i < list.n_owned(); ++i)
+    for (std::size_t k = off[i]; k < off[i + 1]; ++k) {
+      if (slot_[k] < 0) continue;
+      const auto& st = sys.contacts.state(static_cast<std::size_t>(slot_[k]));
+      if (st.age == 0) continue;
+      const std::size_t j = nb[k];
+      Vec<dim> r = sys.cell.length.cwiseProduct(p.position[j] - p.position[i]);
+      f(i, j, Vec<dim>(r / r.norm()), st);
+    }
+}
+
+extern template class ContactForceLoop<2>;
+extern template class ContactForceLoop<3>;
+
+}  // namespace granpack

@@ -1,0 +1,71 @@
+#pragma once
+// The distributed MD engine: one time step of grains + stress-controlled cell on the domain
+// decomposition. The step reads like the algorithm (docs/ARCHITECTURE.md, "A time step"):
+//   half-kick (grains, cell) -> drift -> rebuild (migrate, ghosts, Verlet list) or refresh
+//   ghosts -> contact forces -> reverse communication of ghost forces -> half-kick ->
+//   global stress and kinetic energy (one all-reduce) -> cell half-kick.
+// Physics comes from the MPI-free kernels (contact law, force loop, integrator, cell
+// control); communication from comm/. Every public member is collective on ctx.world.
+#include <Eigen/Core>
+
+#include "granpack/comm/halo.h"
+#include "granpack/contact/contact_law.h"
+#include "granpack/dynamics/cell_control.h"
+#include "granpack/dynamics/contact_forces.h"
+#include "granpack/dynamics/equilibrium.h"
+#include "granpack/neighbor/verlet_list.h"
+#include "granpack/prep/run_context.h"
+
+namespace granpack {
+
+template <int dim> struct MdSettings {
+  double dt = 0;             ///< time step, s
+  double skin = 0;           ///< Verlet skin, m
+  bool stress_control = false;
+  CellControl<dim> cell;     ///< used when stress_control
+};
+
+/// Global observables after a step (identical on every rank).
+template <int dim> struct MdObservables {
+  Tensor<dim> stress = Tensor<dim>::Zero();          ///< eq. (8): contacts + kinetic, Pa
+  Tensor<dim> stress_elastic = Tensor<dim>::Zero();  ///< elastic contact forces only, Pa
+  double kinetic_energy = 0;                         ///< J (translational + rotational)
+  std::int64_t contacts = 0;                         ///< interacting pairs
+  double max_overlap = 0;                            ///< largest h / min(R_i, R_j)
+};
+
+template <int dim> class MdEngine {
+public:
+  MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law, const MdSettings<dim>& settings);
+  /// Advances one time step.
+  void step();
+  const MdObservables<dim>& observables() const { return obs_; }
+  /// The [AR] criteria values, normalised by the given force, stress and energy scales
+  /// (a^2 P, P, P a^3 for [AR]); needs one extra pass over the contacts.
+  EquilibriumMeasure measure(double force_scale, double stress_scale, double energy_scale);
+  /// Lists the force-carrying contacts (N^e > threshold) of this rank, by local index.
+  template <class F> void for_each_contact(F&& f) const { loop_.for_each_contact(ctx_.system, list_, f); }
+  const Halo<dim>& halo() const { return halo_; }
+  std::int64_t rebuilds() const { return rebuilds_; }
+  double dt() const { return settings_.dt; }
+  MdSettings<dim>& settings() { return settings_; }
+
+private:
+  void rebuild();
+  void forces_and_observables();
+
+  RunContext<dim>& ctx_;
+  ContactLaw<dim> law_;
+  MdSettings<dim> settings_;
+  Halo<dim> halo_;
+  VerletList<dim> list_;
+  ContactForceLoop<dim> loop_;
+  MdObservables<dim> obs_;
+  double max_radius_ = 0;
+  std::int64_t rebuilds_ = 0;
+};
+
+extern template class MdEngine<2>;
+extern template class MdEngine<3>;
+
+}  // namespace granpack

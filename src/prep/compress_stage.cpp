@@ -1,0 +1,124 @@
+// `compress` stage: stress-controlled MD with the contact law until the [AR] equilibrium
+// criteria hold at the prescribed pressure ([AR] sec. II B, III).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "granpack/core/error.h"
+#include "granpack/prep/material_law.h"
+#include "granpack/prep/md_engine.h"
+#include "granpack/prep/stages.h"
+#include "granpack/prep/state_metrics.h"
+
+namespace granpack {
+
+namespace {
+std::string progress_line(std::int64_t step, double t, double phi, const EquilibriumMeasure& m,
+                          std::int64_t contacts, double steps_per_s) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "  step %10lld  t %.4e s  phi %.5f  |dP|/P %.2e  Fmax/a2P %.2e  Ek/Pa3 %.2e  "
+                "contacts %lld  %.0f steps/s",
+                static_cast<long long>(step), t, phi, m.stress, m.force, m.kinetic,
+                static_cast<long long>(contacts), steps_per_s);
+  return buf;
+}
+}  // namespace
+
+template <int dim> StageReport run_compress(RunContext<dim>& ctx, const CompressStage& c) {
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
+  const auto& sample = ctx.deck->sample;
+  const double a = sample.diameter, P = c.pressure;
+  const double grain_mass = dim == 3 ? HomogeneousGrain<3>::mass(ctx.material.density, a)
+                                     : HomogeneousGrain<2>::mass(ctx.material.density, a);
+  GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index
+                                             << " (compress): there is no sample yet");
+
+  MdSettings<dim> s;
+  s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, P);
+  s.skin = ctx.deck->numerics.skin * a;
+  s.stress_control = true;
+  double total_mass = 0;
+  for (std::size_t i = 0; i < ctx.system.particles.n_owned(); ++i)
+    total_mass += ctx.system.particles.mass[i];
+  MPI_Allreduce(MPI_IN_PLACE, &total_mass, 1, MPI_DOUBLE, MPI_SUM, ctx.world);
+  s.cell.mass = c.cell_mass * total_mass;
+  s.cell.target = Vec<dim>::Constant(P);
+  // Inertia number I = eps_dot sqrt(m / (a P)) (eq. 23), m the mass of a grain of diameter a
+  // (in 2D, per unit thickness: I = eps_dot sqrt(m / P)).
+  const double inertia_time = std::sqrt(grain_mass / ((dim == 3 ? a : 1.0) * P));
+  if (c.inertia_max) s.cell.max_strain_rate = *c.inertia_max / inertia_time;
+
+  const double kappa = stiffness_number(ctx.material, sample, dim, P);
+  ctx.log->info("  P = " + std::to_string(P) + " Pa, kappa = " + std::to_string(kappa) +
+                ", mu = " + std::to_string(ctx.material.friction) + ", zeta = " +
+                std::to_string(ctx.material.damping) + ", I_max = " +
+                (c.inertia_max ? std::to_string(*c.inertia_max) : std::string("none")) +
+                ", dt = " + std::to_string(s.dt) + " s");
+
+  MdEngine<dim> engine(ctx, contact_law_of<dim>(ctx.material), s);
+  const double force_scale = (dim == 3 ? a * a : a) * P;
+  const double energy_scale = (dim == 3 ? a * a * a : a * a) * P;
+  const std::int64_t check_every = 50;
+  const std::int64_t log_every = ctx.deck->output.log_every;
+  const std::int64_t first_step = ctx.system.step;
+  const double first_time = ctx.system.time;
+  double inertia_reached = 0;
+  bool equilibrated = false;
+  EquilibriumMeasure m = engine.measure(force_scale, P, energy_scale);
+  auto last_log = clock::now();
+  std::int64_t last_log_step = first_step;
+  while (true) {
+    const std::int64_t done = ctx.system.step - first_step;
+    if (done % check_every == 0) {
+      m = engine.measure(force_scale, P, energy_scale);
+      if (m.satisfies(c.tolerance)) {
+        equilibrated = true;
+        break;
+      }
+    }
+    if (c.max_steps > 0 && done >= c.max_steps) break;
+    if (done % log_every == 0) {
+      const auto now = clock::now();
+      const double secs = std::chrono::duration<double>(now - last_log).count();
+      const double rate = secs > 0 ? double(ctx.system.step - last_log_step) / secs : 0.0;
+      ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, ctx.solid_fraction(), m,
+                                      engine.observables().contacts, rate));
+      last_log = now;
+      last_log_step = ctx.system.step;
+    }
+    engine.step();
+    for (int k = 0; k < dim; ++k)
+      inertia_reached = std::max(inertia_reached, std::abs(ctx.system.cell.rate[k] /
+                                                           ctx.system.cell.length[k]) * inertia_time);
+  }
+  ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, ctx.solid_fraction(), m,
+                                  engine.observables().contacts, 0.0));
+
+  const int min_contacts = ctx.material.friction > 0 ? 2 : dim + 1;
+  const StateMetrics sm = state_metrics(ctx, engine, c.tolerance.force * force_scale, min_contacts);
+  StageReport r;
+  r.steps = ctx.system.step - first_step;
+  r.time = ctx.system.time - first_time;
+  r.equilibrated = equilibrated;
+  r.phi = ctx.solid_fraction();
+  r.pressure = engine.observables().stress_elastic.trace() / dim;
+  r.kappa = kappa;
+  r.inertia_max = inertia_reached;
+  r.z = sm.z;
+  r.z_star = sm.z_star;
+  r.x0 = sm.x0;
+  ctx.log->info("  " + std::string(equilibrated ? "equilibrated" : "NOT equilibrated (max_steps)") +
+                ": phi " + std::to_string(*r.phi) + ", P " + std::to_string(*r.pressure) +
+                " Pa, z " + std::to_string(sm.z) + ", z* " + std::to_string(sm.z_star) +
+                ", x0 " + std::to_string(sm.x0) + ", " + std::to_string(engine.rebuilds()) +
+                " list rebuilds");
+  r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
+  return r;
+}
+
+template StageReport run_compress<2>(RunContext<2>&, const CompressStage&);
+template StageReport run_compress<3>(RunContext<3>&, const CompressStage&);
+
+}  // namespace granpack

@@ -1,0 +1,123 @@
+#include "granpack/prep/md_engine.h"
+
+#include <algorithm>
+
+#include "granpack/comm/collective_error.h"
+#include "granpack/comm/migration.h"
+#include "granpack/comm/reduce.h"
+#include "granpack/core/error.h"
+#include "granpack/dynamics/integrator.h"
+
+namespace granpack {
+
+template <int dim>
+MdEngine<dim>::MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law,
+                        const MdSettings<dim>& settings)
+    : ctx_(ctx), law_(law), settings_(settings) {
+  GRANPACK_CHECK(ctx.decomposition, "the MD engine needs a sample (a lattice or random stage)");
+  GRANPACK_CHECK(settings.dt > 0, "time step must be positive");
+  double r = 0;
+  for (std::size_t i = 0; i < ctx.system.particles.n_owned(); ++i)
+    r = std::max(r, ctx.system.particles.radius[i]);
+  max_radius_ = global_max(ctx.world, r);
+  rebuild();
+  forces_and_observables();
+}
+
+template <int dim> void MdEngine<dim>::rebuild() {
+  auto& sys = ctx_.system;
+  sys.particles.clear_ghosts();
+  migrate(sys, *ctx_.decomposition);
+  // Ghost layer: every grain that can come within reach of ours before the next rebuild.
+  const double cutoff = 2 * max_radius_ + law_.interaction_range() + settings_.skin;
+  halo_.borders(sys.particles, *ctx_.decomposition, Vec<dim>::Constant(cutoff).cwiseQuotient(sys.cell.length));
+  collectively(ctx_.world, [&] {
+    list_.build(sys.particles, sys.cell, NeighborParams{settings_.skin, law_.interaction_range()});
+  });
+  loop_.bind(sys.particles, list_, sys.contacts);
+  ++rebuilds_;
+}
+
+template <int dim> void MdEngine<dim>::forces_and_observables() {
+  auto& sys = ctx_.system;
+  const ForceSums<dim> sums = loop_.compute(sys, list_, law_, settings_.dt);
+  halo_.reverse(sys.particles, *ctx_.decomposition);
+
+  // One all-reduce for every global sum of the step.
+  constexpr int nt = dim * dim;
+  double local[2 * nt + 2], global[2 * nt + 2];
+  Tensor<dim> kinetic = Tensor<dim>::Zero();
+  const auto& p = sys.particles;
+  double ek = 0;
+  for (std::size_t i = 0; i < p.n_owned(); ++i) {
+    kinetic.noalias() += p.mass[i] * p.velocity[i] * p.velocity[i].transpose();
+    ek += 0.5 * p.inertia[i] * p.angular_velocity[i].squaredNorm();
+  }
+  ek += 0.5 * kinetic.trace();
+  Eigen::Map<Tensor<dim>> total_part(local), elastic_part(local + nt);
+  total_part = sums.virial + kinetic;
+  elastic_part = sums.virial_elastic;
+  local[2 * nt] = ek;
+  local[2 * nt + 1] = static_cast<double>(sums.interacting);
+  MPI_Allreduce(local, global, 2 * nt + 2, MPI_DOUBLE, MPI_SUM, ctx_.world);
+  const double volume = sys.cell.volume();
+  obs_.stress = Eigen::Map<Tensor<dim>>(global) / volume;
+  obs_.stress_elastic = Eigen::Map<Tensor<dim>>(global + nt) / volume;
+  obs_.kinetic_energy = global[2 * nt];
+  obs_.contacts = static_cast<std::int64_t>(global[2 * nt + 1]);
+  obs_.max_overlap = global_max(ctx_.world, sums.max_overlap);
+}
+
+template <int dim> void MdEngine<dim>::step() {
+  auto& sys = ctx_.system;
+  auto& p = sys.particles;
+  const double dt = settings_.dt;
+  kick(p, 0.5 * dt);
+  if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
+  drift(p, sys.cell, dt);
+  if (settings_.stress_control) CellControl<dim>::drift(sys.cell, dt);
+
+  int local = list_.needs_rebuild(p, sys.cell) ? 1 : 0, any = 0;
+  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, ctx_.world);
+  if (any)
+    rebuild();
+  else
+    halo_.forward(p, *ctx_.decomposition);
+
+  forces_and_observables();
+  kick(p, 0.5 * dt);
+  if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
+  sys.time += dt;
+  ++sys.step;
+}
+
+template <int dim>
+EquilibriumMeasure MdEngine<dim>::measure(double force_scale, double stress_scale,
+                                          double energy_scale) {
+  auto& sys = ctx_.system;
+  std::vector<Vec<dim>> fel;
+  loop_.elastic_forces(sys, list_, fel);
+  std::vector<double> comp(fel.size());
+  double fmax = 0;
+  std::vector<double> norm2(sys.particles.n_owned(), 0.0);
+  for (int a = 0; a < dim; ++a) {
+    for (std::size_t i = 0; i < fel.size(); ++i) comp[i] = fel[i][a];
+    halo_.reverse_values(comp, *ctx_.decomposition);
+    for (std::size_t i = 0; i < norm2.size(); ++i) norm2[i] += comp[i] * comp[i];
+  }
+  for (double f2 : norm2) fmax = std::max(fmax, f2);
+  EquilibriumMeasure m;
+  m.force = std::sqrt(global_max(ctx_.world, fmax)) / force_scale;
+  double err = 0;
+  for (int a = 0; a < dim; ++a)
+    err = std::max(err, std::abs(obs_.stress_elastic(a, a) - settings_.cell.target[a]));
+  m.stress = err / stress_scale;
+  const auto n = global_sum(ctx_.world, static_cast<std::int64_t>(sys.particles.n_owned()));
+  m.kinetic = obs_.kinetic_energy / static_cast<double>(n) / energy_scale;
+  return m;
+}
+
+template class MdEngine<2>;
+template class MdEngine<3>;
+
+}  // namespace granpack
