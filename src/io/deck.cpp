@@ -158,9 +158,10 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
   if (st.kind == "lattice") {
     st.params = read_lattice(rk, sample);
   } else if (st.kind == "random") {
-    double phi_max = sample.dimension == 3 ? 0.35 : 0.50;  // beyond: random addition jams
+    // Overlap removal (prep/overlap_removal) stays far from jamming below these values.
+    double phi_max = sample.dimension == 3 ? 0.55 : 0.70;
     st.params = RandomStage{rk.number("phi", Range{0.0, phi_max, true, false},
-                                      "solid fraction of random sequential placement")};
+                                      "solid fraction of the random placement")};
   } else if (st.kind == "compress") {
     CompressStage c;
     c.pressure = rk.number("pressure", Range::positive(), "prescribed pressure P in Pa");

@@ -51,11 +51,16 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   if (c.inertia_max) s.cell.max_strain_rate = *c.inertia_max / inertia_time;
 
   const double kappa = stiffness_number(ctx.material, sample, dim, P);
-  ctx.log->info("  P = " + std::to_string(P) + " Pa, kappa = " + std::to_string(kappa) +
-                ", mu = " + std::to_string(ctx.material.friction) + ", zeta = " +
-                std::to_string(ctx.material.damping) + ", I_max = " +
-                (c.inertia_max ? std::to_string(*c.inertia_max) : std::string("none")) +
-                ", dt = " + std::to_string(s.dt) + " s");
+  {
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "  P = %.6g Pa, kappa = %.6g, mu = %g, zeta = %g, I_max = %s, M = %g x grain "
+                  "mass, dt = %.4g s",
+                  P, kappa, ctx.material.friction, ctx.material.damping,
+                  c.inertia_max ? std::to_string(*c.inertia_max).c_str() : "none", c.cell_mass,
+                  s.dt);
+    ctx.log->info(buf);
+  }
 
   MdEngine<dim> engine(ctx, contact_law_of<dim>(ctx.material), s);
   const double force_scale = (dim == 3 ? a * a : a) * P;
@@ -109,11 +114,16 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   r.z = sm.z;
   r.z_star = sm.z_star;
   r.x0 = sm.x0;
-  ctx.log->info("  " + std::string(equilibrated ? "equilibrated" : "NOT equilibrated (max_steps)") +
-                ": phi " + std::to_string(*r.phi) + ", P " + std::to_string(*r.pressure) +
-                " Pa, z " + std::to_string(sm.z) + ", z* " + std::to_string(sm.z_star) +
-                ", x0 " + std::to_string(sm.x0) + ", " + std::to_string(engine.rebuilds()) +
-                " list rebuilds");
+  {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "  %s: phi %.6f, P %.6g Pa, z %.4f, z* %.4f, x0 %.4f, I reached %.3g, "
+                  "%lld list rebuilds",
+                  equilibrated ? "equilibrated" : "NOT equilibrated (max_steps reached)", *r.phi,
+                  *r.pressure, sm.z, sm.z_star, sm.x0, inertia_reached,
+                  static_cast<long long>(engine.rebuilds()));
+    ctx.log->info(buf);
+  }
   r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
   return r;
 }

@@ -61,6 +61,7 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
         [&](const auto& p) -> StageReport {
           using P = std::decay_t<decltype(p)>;
           if constexpr (std::is_same_v<P, LatticeStage>) return run_lattice(ctx, p);
+          else if constexpr (std::is_same_v<P, RandomStage>) return run_random(ctx, p);
           else if constexpr (std::is_same_v<P, CompressStage>) return run_compress(ctx, p);
           else if constexpr (std::is_same_v<P, SetStage>) return run_set(ctx, p);
           else if constexpr (std::is_same_v<P, WriteStage>) return run_write(ctx, p);

@@ -8,7 +8,7 @@
 namespace granpack {
 
 bool stage_implemented(const std::string& kind) {
-  return kind == "lattice" || kind == "compress" || kind == "set" || kind == "write";
+  return kind == "lattice" || kind == "random" || kind == "compress" || kind == "set" || kind == "write";
 }
 
 template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file) {
@@ -17,6 +17,9 @@ template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem:
   c.particles = ctx.system.particles;
   c.particles.clear_ghosts();
   c.contacts = ctx.system.contacts;
+  // Entries reset when a contact opened (age 0) wait in the store for the next compaction;
+  // they are not contacts.
+  c.contacts.erase_if([](const ContactKey&, const ContactState<dim>& s) { return s.age == 0; });
   c.meta.granpack_version = GRANPACK_VERSION;
   c.meta.dimension = dim;
   c.meta.time = ctx.system.time;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # End to end: `granpack run` of the main deck on 2 ranks writes report.json (with every
 # required key), final.h5 + final.xdmf and log.txt; `granpack info` reads the file written by
-# 2 ranks on 1 rank; unimplemented subcommands and stages say so with exit code 3.
+# 2 ranks on 1 rank; unimplemented subcommands say so with exit code 3.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 scratch=$(mktemp -d)
@@ -38,13 +38,6 @@ check "info names dimension and n: $info" "grep -q 'dimension' <<<\"\$info\" && 
 check "analyze not implemented: exit 3" "[ $? -eq 3 ] && grep -q 'not implemented' '$scratch/a.txt'"
 "$GRANPACK_EXE" info "$scratch/does_not_exist.h5" > "$scratch/i.txt" 2>&1
 check "info on a missing file: exit 2" "[ $? -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/i.txt'"
-
-sed 's/^kind = "lattice"/kind = "random"\nphi = 0.3\n[[stage]]\nkind = "lattice"/' \
-  "$GRANPACK_SOURCE_DIR/jobs/decks/main.toml" > "$scratch/unimpl.toml"
-mpiexec -n 2 "$GRANPACK_EXE" run "$scratch/unimpl.toml" -o "$scratch/u" > "$scratch/u.txt" 2>&1
-code=$?
-check "unimplemented stage: exit 3, nothing written (got $code: $(head -c 300 "$scratch/u.txt"))" \
-  "[ $code -eq 3 ] && [ ! -e '$scratch/u' ]"
 
 "$GRANPACK_EXE" --version | grep -q "granpack"
 check "--version" "[ $? -eq 0 ]"

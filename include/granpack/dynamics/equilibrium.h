@@ -7,6 +7,8 @@
 // excluded, as in the paper: at the kinetic threshold viscous forces can still exceed the
 // force threshold by two orders of magnitude). [GRC] II D uses the same form with the force
 // scale F1 = max(F0, Pa) instead of a^2 P; the caller supplies the scales.
+// The kinetic energy leaves out the spin of grains that touch nothing (a caged rattler
+// spinning freely never loses that energy, and it has no mechanical effect).
 namespace granpack {
 
 struct EquilibriumTolerances {

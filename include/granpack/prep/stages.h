@@ -10,9 +10,13 @@ namespace granpack {
 bool stage_implemented(const std::string& kind);
 
 template <int dim> StageReport run_lattice(RunContext<dim>& ctx, const LatticeStage& p);
+template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStage& p);
 template <int dim> StageReport run_compress(RunContext<dim>& ctx, const CompressStage& p);
 template <int dim> StageReport run_set(RunContext<dim>& ctx, const SetStage& p);
 template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage& p);
+
+/// Removes the overlaps of randomly placed grains (fixed cell, soft repulsion, quench).
+template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx);
 
 /// Writes the current state as an HDF5 configuration file (with its XDMF sidecar).
 template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file);

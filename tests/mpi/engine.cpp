@@ -1,0 +1,244 @@
+// The distributed MD engine: closed forms (FCC under pressure), conservation (momentum at
+// fixed cell), and decomposition invariance (1 rank vs 2 ranks on a dense frictional sample).
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "granpack/comm/reduce.h"
+#include "granpack/dynamics/integrator.h"
+#include "granpack/io/deck.h"
+#include "granpack/prep/material_law.h"
+#include "granpack/prep/md_engine.h"
+#include "granpack/prep/run_deck.h"
+#include "granpack/prep/stages.h"
+#include "test_paths.h"
+
+using namespace granpack;
+
+namespace {
+
+int comm_size(MPI_Comm c) {
+  int s = 0;
+  MPI_Comm_size(c, &s);
+  return s;
+}
+int comm_rank(MPI_Comm c) {
+  int r = 0;
+  MPI_Comm_rank(c, &r);
+  return r;
+}
+
+/// Solid fraction of an FCC crystal of equal Hertz spheres (diameter a) under isotropic
+/// pressure P. With l the nearest-neighbour distance, each sphere has 12 contacts of
+/// deflection h = a - l; the stress of eq. (8) gives P = 2 sqrt(2) N / l^2 with
+/// N = E~ sqrt(a) h^(3/2) / 3 (eq. 1), and Phi = pi a^3 / (3 sqrt(2) l^3). Solved for l by
+/// bisection.
+double fcc_hertz_phi(double e_tilde, double a, double P) {
+  auto excess = [&](double l) {
+    return 2 * std::sqrt(2.0) * e_tilde * std::sqrt(a) * std::pow(a - l, 1.5) / (3 * l * l) - P;
+  };
+  double lo = 0.9 * a, hi = a;
+  for (int k = 0; k < 200; ++k) {
+    double mid = 0.5 * (lo + hi);
+    (excess(mid) > 0 ? lo : hi) = mid;
+  }
+  const double l = 0.5 * (lo + hi);
+  return std::numbers::pi * a * a * a / (3 * std::sqrt(2.0) * l * l * l);
+}
+
+}  // namespace
+
+TEST(Engine, FccHertzReachesTheAnalyticSolidFraction) {
+  const auto deck = test::source_dir() / "jobs/decks/ci/fcc_hertz.toml";
+  const auto out = test::scratch_dir("engine_fcc_np" + std::to_string(comm_size(MPI_COMM_WORLD)));
+  RunOptions opt;
+  opt.deck = deck;
+  opt.output_dir = out;
+  opt.quiet = true;
+  ASSERT_EQ(run_deck(MPI_COMM_WORLD, opt), 0);
+  nlohmann::json r = nlohmann::json::parse(std::ifstream(out / "report.json"));
+  const auto& st = r["stages"][1];
+  ASSERT_EQ(st["kind"], "compress");
+  EXPECT_TRUE(st["equilibrated"].get<bool>());
+  const double expected = fcc_hertz_phi(70e9 / (1 - 0.09), 1e-3, 1e4);
+  EXPECT_NEAR(st["phi"].get<double>() / expected - 1, 0.0, 1e-6) << "analytic " << expected;
+  EXPECT_NEAR(st["pressure"].get<double>() / 1e4 - 1, 0.0, 1e-4);
+  EXPECT_DOUBLE_EQ(st["z"].get<double>(), 12.0);
+  EXPECT_DOUBLE_EQ(st["x0"].get<double>(), 0.0);
+}
+
+namespace {
+
+/// A dense, soft, frictional 3D sample at fixed cell: FCC at Phi = 0.74, then the cell shrunk
+/// by 1 % (Phi = 0.763: every sphere overlaps its 12 neighbours) with random velocities that make grains slide and rotate.
+const char* kDenseDeck = R"(
+[sample]
+dimension = 3
+n = 500
+diameter = 1.0e-3
+[material]
+density = 2500.0
+normal_law = "linear"
+normal_stiffness = 1.0e3
+tangential_stiffness_ratio = 0.8
+friction = 0.3
+damping = 0.3
+[[stage]]
+kind = "lattice"
+phi = 0.74
+cells = [5, 5, 5]
+)";
+
+struct Snapshot {
+  std::map<GlobalId, std::array<double, 9>> grains;  // force, velocity, omega
+  std::map<std::pair<GlobalId, GlobalId>, std::array<double, 4>> contacts;  // N, T
+};
+
+Snapshot gather(MPI_Comm comm, const System<3>& sys) {
+  std::vector<double> g, c;
+  const auto& p = sys.particles;
+  for (std::size_t i = 0; i < p.n_owned(); ++i) {
+    g.push_back(double(p.id[i]));
+    for (int a = 0; a < 3; ++a) g.push_back(p.force[i][a]);
+    for (int a = 0; a < 3; ++a) g.push_back(p.velocity[i][a]);
+    for (int a = 0; a < 3; ++a) g.push_back(p.angular_velocity[i][a]);
+  }
+  for (std::size_t k = 0; k < sys.contacts.size(); ++k) {
+    const auto& s = sys.contacts.state(k);
+    if (s.age == 0) continue;
+    c.push_back(double(sys.contacts.key(k).first));
+    c.push_back(double(sys.contacts.key(k).second));
+    c.push_back(s.normal_force);
+    for (int a = 0; a < 3; ++a) c.push_back(s.tangential_force[a]);
+  }
+  auto all = [&](const std::vector<double>& v) {
+    int n = int(v.size()), size = comm_size(comm);
+    std::vector<int> counts(size), displs(size, 0);
+    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    std::vector<double> out(displs.back() + counts.back());
+    MPI_Allgatherv(v.data(), n, MPI_DOUBLE, out.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+    return out;
+  };
+  Snapshot s;
+  auto G = all(g), C = all(c);
+  for (std::size_t k = 0; k < G.size(); k += 10) {
+    std::array<double, 9> v;
+    std::copy(G.begin() + k + 1, G.begin() + k + 10, v.begin());
+    s.grains[GlobalId(G[k])] = v;
+  }
+  for (std::size_t k = 0; k < C.size(); k += 6) {
+    std::array<double, 4> v;
+    std::copy(C.begin() + k + 2, C.begin() + k + 6, v.begin());
+    s.contacts[{GlobalId(C[k]), GlobalId(C[k + 1])}] = v;
+  }
+  return s;
+}
+
+/// Runs `steps` steps of the dense sample on `comm` and returns the gathered state.
+Snapshot run_dense(MPI_Comm comm, int steps, Vec<3>* momentum_before = nullptr,
+                   Vec<3>* momentum_after = nullptr, double* momentum_scale = nullptr) {
+  Deck deck = parse_deck(kDenseDeck, "dense.toml");
+  Log log(false, true);
+  RunContext<3> ctx;
+  ctx.world = comm;
+  ctx.deck = &deck;
+  ctx.material = deck.material;
+  ctx.log = &log;
+  run_lattice(ctx, std::get<LatticeStage>(deck.stages[0].params));
+  ctx.system.cell.length *= 0.99;
+  auto& p = ctx.system.particles;
+  for (std::size_t i = 0; i < p.n_owned(); ++i) {
+    // velocities and spins from the id only: the same sample on any rank count
+    const double x = double(p.id[i]);
+    p.velocity[i] = Vec<3>(std::sin(1.3 * x), std::cos(2.1 * x), std::sin(0.7 * x + 1)) * 0.05;
+    p.angular_velocity[i] = Vec<3>(std::cos(x), std::sin(3 * x), std::cos(0.5 * x)) * 50.0;
+  }
+  MdSettings<3> s;
+  s.dt = 0.02 * contact_duration(deck.material, deck.sample, 3, 1.0);
+  s.skin = 0.1e-3;
+  s.stress_control = false;
+  MdEngine<3> engine(ctx, contact_law_of<3>(ctx.material), s);
+  if (momentum_before) *momentum_before = Vec<3>(0, 0, 0);
+  Vec<3> m0 = momentum(p);
+  MPI_Allreduce(MPI_IN_PLACE, m0.data(), 3, MPI_DOUBLE, MPI_SUM, comm);
+  for (int k = 0; k < steps; ++k) engine.step();
+  Vec<3> m1 = momentum(p);
+  MPI_Allreduce(MPI_IN_PLACE, m1.data(), 3, MPI_DOUBLE, MPI_SUM, comm);
+  if (momentum_before) *momentum_before = m0;
+  if (momentum_after) *momentum_after = m1;
+  if (momentum_scale) {  // sum of |m v_a|: the size of the terms whose round-off we see
+    double sc = 0;
+    for (std::size_t i = 0; i < p.n_owned(); ++i) sc += p.mass[i] * p.velocity[i].lpNorm<1>();
+    *momentum_scale = global_sum(comm, sc);
+  }
+  return gather(comm, ctx.system);
+}
+
+}  // namespace
+
+TEST(Engine, MomentumIsConservedAtFixedCell) {
+  Vec<3> m0, m1;
+  double scale = 0;
+  Snapshot s = run_dense(MPI_COMM_WORLD, 500, &m0, &m1, &scale);
+  ASSERT_GT(s.contacts.size(), 2500u) << "the sample must be dense";
+  // Pair forces are applied as +f / -f, so only round-off may change the total momentum:
+  // 500 steps x ~1e-16 relative per operation on terms of size `scale`.
+  EXPECT_LT((m1 - m0).norm(), 1e-12 * scale) << m0.transpose() << " -> " << m1.transpose();
+  EXPECT_GT((m0).norm(), 1e-3 * scale) << "the test needs a non-zero total momentum";
+}
+
+TEST(Engine, OneAndTwoRanksAgreeAfter1000Steps) {
+  Snapshot par = run_dense(MPI_COMM_WORLD, 1000);
+  if (comm_rank(MPI_COMM_WORLD) != 0) return;
+  Snapshot ser = run_dense(MPI_COMM_SELF, 1000);
+  ASSERT_EQ(par.grains.size(), 500u);
+  ASSERT_EQ(ser.grains.size(), 500u);
+  std::vector<std::pair<GlobalId, GlobalId>> kp, ks;
+  for (const auto& [k, v] : par.contacts) kp.push_back(k);
+  for (const auto& [k, v] : ser.contacts) ks.push_back(k);
+  ASSERT_EQ(kp, ks) << "contact sets differ";
+  double nmax = 0, cworst = 0;
+  for (const auto& [k, v] : ser.contacts) nmax = std::max(nmax, std::abs(v[0]));
+  // Net forces are sums of ~12 contact forces that nearly cancel; the two runs add them in
+  // different orders (ghost contributions arrive by reverse communication), so their
+  // round-off is relative to the contact forces, not to the small net force.
+  double worst = 0;
+  for (const auto& [id, v] : ser.grains) {
+    const auto& w = par.grains.at(id);
+    for (int a = 0; a < 3; ++a) worst = std::max(worst, std::abs(w[a] - v[a]) / nmax);
+  }
+  EXPECT_LT(worst, 1e-12) << "largest net force difference relative to the largest contact force";
+  for (const auto& [k, v] : ser.contacts) {
+    const auto& w = par.contacts.at(k);
+    for (int a = 0; a < 4; ++a) cworst = std::max(cworst, std::abs(w[a] - v[a]) / nmax);
+  }
+  EXPECT_LT(cworst, 1e-12) << "largest contact force difference relative to the largest";
+}
+
+TEST(Engine, GasSmallCompressesToEquilibrium) {
+  // jobs/decks/ci/gas_small.toml: 500 frictional soft spheres (kappa = 1000, mu = 0.3) from a
+  // random gas at Phi = 0.45 to 10 kPa with I <= 1e-2. Bands: random frictional packings
+  // assembled fast lie at Phi 0.57-0.61 and, at kappa = 1000, z* 4.6-5.4 (softer contacts add
+  // contacts: [AR] reports z* = 4.5-4.6 for D at kappa = 181000); rattlers a few percent.
+  const auto out = test::scratch_dir("engine_gas_np" + std::to_string(comm_size(MPI_COMM_WORLD)));
+  RunOptions opt;
+  opt.deck = test::source_dir() / "jobs/decks/ci/gas_small.toml";
+  opt.output_dir = out;
+  opt.quiet = true;
+  ASSERT_EQ(run_deck(MPI_COMM_WORLD, opt), 0);
+  nlohmann::json r = nlohmann::json::parse(std::ifstream(out / "report.json"));
+  const auto& st = r["stages"][1];
+  EXPECT_TRUE(st["equilibrated"].get<bool>());
+  EXPECT_NEAR(st["pressure"].get<double>() / 1e4 - 1, 0.0, 1e-4);
+  EXPECT_GT(st["phi"].get<double>(), 0.57);
+  EXPECT_LT(st["phi"].get<double>(), 0.61);
+  EXPECT_GT(st["z_star"].get<double>(), 4.6);
+  EXPECT_LT(st["z_star"].get<double>(), 5.4);
+  EXPECT_LT(st["x0"].get<double>(), 0.10);
+  EXPECT_LE(st["inertia_max"].get<double>(), 1e-2 * (1 + 1e-12));
+}
