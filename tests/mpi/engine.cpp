@@ -242,3 +242,23 @@ TEST(Engine, GasSmallCompressesToEquilibrium) {
   EXPECT_LT(st["x0"].get<double>(), 0.10);
   EXPECT_LE(st["inertia_max"].get<double>(), 1e-2 * (1 + 1e-12));
 }
+
+TEST(Engine, HexLatticeOfLinearDisksReachesTheAnalyticSolidFraction) {
+  // 2D, linear law K_N: each disk has 6 contacts at distance l with N = K_N (a - l). The
+  // stress of eq. (8) over the area (sqrt(3)/2) l^2 per disk gives P = sqrt(3) N / l, so
+  // l = sqrt(3) K_N a / (P + sqrt(3) K_N) and Phi = pi a^2 / (2 sqrt(3) l^2).
+  const auto out = test::scratch_dir("engine_hex_np" + std::to_string(comm_size(MPI_COMM_WORLD)));
+  RunOptions opt;
+  opt.deck = test::source_dir() / "jobs/decks/ci/hex_linear.toml";
+  opt.output_dir = out;
+  opt.quiet = true;
+  ASSERT_EQ(run_deck(MPI_COMM_WORLD, opt), 0);
+  nlohmann::json r = nlohmann::json::parse(std::ifstream(out / "report.json"));
+  const auto& st = r["stages"][1];
+  EXPECT_TRUE(st["equilibrated"].get<bool>());
+  const double k = 1e5, a = 1e-3, P = 100.0, s3 = std::sqrt(3.0);
+  const double l = s3 * k * a / (P + s3 * k);
+  const double expected = std::numbers::pi * a * a / (2 * s3 * l * l);
+  EXPECT_NEAR(st["phi"].get<double>() / expected - 1, 0.0, 1e-6) << "analytic " << expected;
+  EXPECT_DOUBLE_EQ(st["z"].get<double>(), 6.0);
+}
