@@ -50,18 +50,24 @@ double fcc_hertz_phi(double e_tilde, double a, double P) {
   return std::numbers::pi * a * a * a / (3 * std::sqrt(2.0) * l * l * l);
 }
 
+/// Runs a deck of jobs/decks/ci on MPI_COMM_WORLD into a scratch directory and returns the
+/// report.json entry of its stage `stage`.
+nlohmann::json run_ci_deck(const std::string& deck, int stage) {
+  const auto out = test::scratch_dir("engine_" + deck + "_np" +
+                                     std::to_string(comm_size(MPI_COMM_WORLD)));
+  RunOptions opt;
+  opt.deck = test::source_dir() / "jobs/decks/ci" / (deck + ".toml");
+  opt.output_dir = out;
+  opt.quiet = true;
+  EXPECT_EQ(run_deck(MPI_COMM_WORLD, opt), 0);
+  nlohmann::json r = nlohmann::json::parse(std::ifstream(out / "report.json"));
+  return r["stages"][stage];
+}
+
 }  // namespace
 
 TEST(Engine, FccHertzReachesTheAnalyticSolidFraction) {
-  const auto deck = test::source_dir() / "jobs/decks/ci/fcc_hertz.toml";
-  const auto out = test::scratch_dir("engine_fcc_np" + std::to_string(comm_size(MPI_COMM_WORLD)));
-  RunOptions opt;
-  opt.deck = deck;
-  opt.output_dir = out;
-  opt.quiet = true;
-  ASSERT_EQ(run_deck(MPI_COMM_WORLD, opt), 0);
-  nlohmann::json r = nlohmann::json::parse(std::ifstream(out / "report.json"));
-  const auto& st = r["stages"][1];
+  const nlohmann::json st = run_ci_deck("fcc_hertz", 1);
   ASSERT_EQ(st["kind"], "compress");
   EXPECT_TRUE(st["equilibrated"].get<bool>());
   const double expected = fcc_hertz_phi(70e9 / (1 - 0.09), 1e-3, 1e4);
@@ -225,14 +231,7 @@ TEST(Engine, GasSmallCompressesToEquilibrium) {
   // random gas at Phi = 0.45 to 10 kPa with I <= 1e-2. Bands: random frictional packings
   // assembled fast lie at Phi 0.57-0.61 and, at kappa = 1000, z* 4.6-5.4 (softer contacts add
   // contacts: [AR] reports z* = 4.5-4.6 for D at kappa = 181000); rattlers a few percent.
-  const auto out = test::scratch_dir("engine_gas_np" + std::to_string(comm_size(MPI_COMM_WORLD)));
-  RunOptions opt;
-  opt.deck = test::source_dir() / "jobs/decks/ci/gas_small.toml";
-  opt.output_dir = out;
-  opt.quiet = true;
-  ASSERT_EQ(run_deck(MPI_COMM_WORLD, opt), 0);
-  nlohmann::json r = nlohmann::json::parse(std::ifstream(out / "report.json"));
-  const auto& st = r["stages"][1];
+  const nlohmann::json st = run_ci_deck("gas_small", 1);
   EXPECT_TRUE(st["equilibrated"].get<bool>());
   EXPECT_NEAR(st["pressure"].get<double>() / 1e4 - 1, 0.0, 1e-4);
   EXPECT_GT(st["phi"].get<double>(), 0.57);
@@ -247,14 +246,7 @@ TEST(Engine, HexLatticeOfLinearDisksReachesTheAnalyticSolidFraction) {
   // 2D, linear law K_N: each disk has 6 contacts at distance l with N = K_N (a - l). The
   // stress of eq. (8) over the area (sqrt(3)/2) l^2 per disk gives P = sqrt(3) N / l, so
   // l = sqrt(3) K_N a / (P + sqrt(3) K_N) and Phi = pi a^2 / (2 sqrt(3) l^2).
-  const auto out = test::scratch_dir("engine_hex_np" + std::to_string(comm_size(MPI_COMM_WORLD)));
-  RunOptions opt;
-  opt.deck = test::source_dir() / "jobs/decks/ci/hex_linear.toml";
-  opt.output_dir = out;
-  opt.quiet = true;
-  ASSERT_EQ(run_deck(MPI_COMM_WORLD, opt), 0);
-  nlohmann::json r = nlohmann::json::parse(std::ifstream(out / "report.json"));
-  const auto& st = r["stages"][1];
+  const nlohmann::json st = run_ci_deck("hex_linear", 1);
   EXPECT_TRUE(st["equilibrated"].get<bool>());
   const double k = 1e5, a = 1e-3, P = 100.0, s3 = std::sqrt(3.0);
   const double l = s3 * k * a / (P + s3 * k);
