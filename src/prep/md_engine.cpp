@@ -1,6 +1,8 @@
 #include "granpack/prep/md_engine.h"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/migration.h"
@@ -85,10 +87,43 @@ template <int dim> void MdEngine<dim>::step() {
     halo_.forward(p, *ctx_.decomposition);
 
   forces_and_observables();
+  check_sanity();
   kick(p, 0.5 * dt);
   if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
   sys.time += dt;
   ++sys.step;
+}
+
+template <int dim> void MdEngine<dim>::check_sanity() {
+  // Global values first (identical on every rank, so every rank decides alike); the search
+  // for the culprit grain runs only when something is wrong.
+  const bool finite = obs_.stress.allFinite() && std::isfinite(obs_.kinetic_energy);
+  const bool overlap_ok = obs_.max_overlap <= settings_.max_overlap;
+  if (finite && overlap_ok) return;
+  CollectiveError err;
+  const auto& p = ctx_.system.particles;
+  for (std::size_t i = 0; i < p.n_owned(); ++i) {
+    if (!p.position[i].allFinite() || !p.velocity[i].allFinite() || !p.force[i].allFinite()) {
+      err.record("step " + std::to_string(ctx_.system.step) + ": grain " + std::to_string(p.id[i]) +
+                 " has a non-finite position, velocity or force (likely fix: a smaller "
+                 "[numerics] time_step_fraction)");
+      break;
+    }
+  }
+  if (!err.has_local() && !finite)
+    err.record("step " + std::to_string(ctx_.system.step) +
+               ": the stress or kinetic energy is not finite (likely fix: a smaller "
+               "[numerics] time_step_fraction)");
+  if (!err.has_local() && !overlap_ok) {
+    std::ostringstream os;
+    os << "step " << ctx_.system.step << ": a contact overlap reached " << obs_.max_overlap
+       << " of the grain radius (limit " << settings_.max_overlap
+       << "): the contacts are too soft for the pressure or the time step too large (likely "
+          "fix: a smaller [numerics] time_step_fraction, stiffer material or a cap "
+          "inertia_max on the compression)";
+    err.record(os.str());
+  }
+  err.raise_if_any(ctx_.world);
 }
 
 template <int dim>

@@ -3,6 +3,7 @@
 // velocities after every step (each step then moves a grain by F dt^2 / 2m). Far below
 // jamming a zero-overlap state is close by and the overlaps decay geometrically.
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "granpack/core/error.h"
@@ -26,6 +27,7 @@ template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx) {
   s.dt = 0.2 * contact_duration(soft, sample, dim, 1.0);
   s.skin = 0.2 * sample.diameter;
   s.stress_control = false;
+  s.max_overlap = std::numeric_limits<double>::infinity();  // removing them is the point
   MdEngine<dim> engine(ctx, contact_law_of<dim>(soft), s);
   const double target = 1e-9;  // largest overlap / radius accepted
   const std::int64_t max_steps = 1000000;

@@ -23,6 +23,8 @@ template <int dim> struct MdSettings {
   double skin = 0;           ///< Verlet skin, m
   bool stress_control = false;
   CellControl<dim> cell;     ///< used when stress_control
+  /// Largest overlap h / min(R_i, R_j) accepted before the run stops with a diagnosis.
+  double max_overlap = 0.1;
 };
 
 /// Global observables after a step (identical on every rank).
@@ -52,6 +54,9 @@ public:
 
 private:
   void rebuild();
+  /// Stops every rank with a diagnosis (grain, step, likely fix) on NaN/Inf or an excessive
+  /// overlap. Collective; costs nothing unless something is wrong.
+  void check_sanity();
   void forces_and_observables();
 
   RunContext<dim>& ctx_;
