@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "granpack/app/analyze.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/prep/run_deck.h"
@@ -65,7 +66,10 @@ int main(int argc, char** argv) {
       std::string text = granpack::describe_file(MPI_COMM_WORLD, file);
       if (root) std::cout << text;
     } else if (*analyze_cmd) {
-      throw granpack::NotImplemented("'granpack analyze' is not implemented yet (issue 5)");
+      granpack::AnalyzeOptions a;
+      a.file = file;
+      if (!json_out.empty()) a.json = json_out;
+      granpack::analyze_file(MPI_COMM_WORLD, a);
     } else if (*stiffness_cmd) {
       throw granpack::NotImplemented("'granpack stiffness' is not implemented yet (issue 6)");
     }

@@ -50,8 +50,7 @@ case "$mode" in
   main)
     out=$root/out/main
     mpirun -np 2 "$build/granpack" run "$root/jobs/decks/main.toml" -o "$out"
-    # The analysis of the packing (granpack analyze, issue 5) replaces this once it exists.
-    "$build/granpack" info "$out/final.h5"
+    mpirun -np 2 "$build/granpack" analyze "$out/final.h5" --json "$out/analysis.json"
     ;;
   test)
     cd "$build"

@@ -81,6 +81,81 @@ template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim
   return leaving.size();
 }
 
+namespace {
+/// MPI_Alltoallv of double buffers, one per destination rank.
+std::vector<std::vector<double>> exchange(MPI_Comm comm, const std::vector<std::vector<double>>& out) {
+  const int n = static_cast<int>(out.size());
+  std::vector<int> sc(n), rc(n), sd(n, 0), rd(n, 0);
+  std::vector<double> sbuf;
+  for (int r = 0; r < n; ++r) {
+    sc[r] = static_cast<int>(out[r].size());
+    sd[r] = static_cast<int>(sbuf.size());
+    sbuf.insert(sbuf.end(), out[r].begin(), out[r].end());
+  }
+  MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
+  int total = 0;
+  for (int r = 0; r < n; ++r) rd[r] = total, total += rc[r];
+  std::vector<double> rbuf(static_cast<std::size_t>(total));
+  MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_DOUBLE, rbuf.data(), rc.data(), rd.data(),
+                MPI_DOUBLE, comm);
+  std::vector<std::vector<double>> in(n);
+  for (int r = 0; r < n; ++r) in[r].assign(rbuf.begin() + rd[r], rbuf.begin() + rd[r] + rc[r]);
+  return in;
+}
+}  // namespace
+
+template <int dim> void distribute(System<dim>& sys, const Decomposition<dim>& d) {
+  migrate(sys, d);
+  const int nranks = d.size();
+  auto directory_of = [&](GlobalId id) { return static_cast<int>(id % nranks); };
+  // 1. Each grain's owner is registered at its directory rank.
+  std::vector<std::vector<double>> out(nranks);
+  for (std::size_t i = 0; i < sys.particles.n_owned(); ++i)
+    out[directory_of(sys.particles.id[i])].push_back(static_cast<double>(sys.particles.id[i]));
+  auto reg = exchange(d.comm(), out);
+  std::unordered_map<GlobalId, int> owner;
+  for (int r = 0; r < nranks; ++r)
+    for (double id : reg[r]) owner.emplace(static_cast<GlobalId>(id), r);
+  // 2. Contacts go to the directory rank of their first grain, 3. which forwards them.
+  for (auto& o : out) o.clear();
+  for (std::size_t k = 0; k < sys.contacts.size(); ++k)
+    Packing<dim>::pack_contact(sys.contacts.key(k), sys.contacts.state(k),
+                               out[directory_of(sys.contacts.key(k).first)]);
+  sys.contacts.clear();
+  auto at_directory = exchange(d.comm(), out);
+  for (auto& o : out) o.clear();
+  std::int64_t orphans = 0;
+  for (int r = 0; r < nranks; ++r) {
+    std::size_t pos = 0;
+    while (pos < at_directory[r].size()) {
+      ContactKey key;
+      ContactState<dim> s;
+      Packing<dim>::unpack_contact(at_directory[r].data(), pos, key, s);
+      auto it = owner.find(key.first);
+      if (it == owner.end()) {
+        ++orphans;
+        continue;
+      }
+      Packing<dim>::pack_contact(key, s, out[it->second]);
+    }
+  }
+  auto mine = exchange(d.comm(), out);
+  for (int r = 0; r < nranks; ++r) {
+    std::size_t pos = 0;
+    while (pos < mine[r].size()) {
+      ContactKey key;
+      ContactState<dim> s;
+      Packing<dim>::unpack_contact(mine[r].data(), pos, key, s);
+      sys.contacts.insert(key, s);
+    }
+  }
+  std::int64_t total = 0;
+  MPI_Allreduce(&orphans, &total, 1, MPI_INT64_T, MPI_SUM, d.comm());
+  GRANPACK_CHECK(total == 0, total << " contacts name a first grain that does not exist");
+}
+
+template void distribute<2>(System<2>&, const Decomposition<2>&);
+template void distribute<3>(System<3>&, const Decomposition<3>&);
 template std::size_t migrate<2>(System<2>&, const Decomposition<2>&);
 template std::size_t migrate<3>(System<3>&, const Decomposition<3>&);
 

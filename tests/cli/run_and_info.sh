@@ -10,9 +10,27 @@ fail=0; pass=0
 check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
 
 out="$scratch/main"
-mpiexec -n 2 "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/main.toml" -o "$out" > "$scratch/run.txt" 2>&1
+cat > "$scratch/lattice.toml" <<'TOML'
+[sample]
+dimension = 3
+n = 256
+diameter = 1.0e-3
+[material]
+density = 2500.0
+young_modulus = 70.0e9
+poisson_ratio = 0.3
+friction = 0.3
+damping = 0.98
+[[stage]]
+kind = "lattice"
+phi = 0.60
+[[stage]]
+kind = "write"
+file = "lattice.h5"
+TOML
+mpiexec -n 2 "$GRANPACK_EXE" run "$scratch/lattice.toml" -o "$out" > "$scratch/run.txt" 2>&1
 check "run exits 0" "[ $? -eq 0 ]"
-for f in report.json final.h5 final.xdmf log.txt; do check "$f written" "[ -s '$out/$f' ]"; done
+for f in report.json final.h5 final.xdmf lattice.h5 lattice.xdmf log.txt; do check "$f written" "[ -s '$out/$f' ]"; done
 check "no temporary files left" "[ -z \"\$(ls '$out' | grep -i tmp)\" ]"
 /usr/bin/python3 - "$out/report.json" <<'PY' > "$scratch/py.txt" 2>&1
 import json, math, sys
@@ -34,8 +52,8 @@ info=$("$GRANPACK_EXE" info "$out/final.h5" 2>&1)
 check "info on 1 rank exits 0" "[ $? -eq 0 ]"
 check "info names dimension and n: $info" "grep -q 'dimension' <<<\"\$info\" && grep -q '256' <<<\"\$info\""
 
-"$GRANPACK_EXE" analyze "$out/final.h5" > "$scratch/a.txt" 2>&1
-check "analyze not implemented: exit 3" "[ $? -eq 3 ] && grep -q 'not implemented' '$scratch/a.txt'"
+"$GRANPACK_EXE" stiffness "$out/final.h5" > "$scratch/a.txt" 2>&1
+check "stiffness not implemented: exit 3" "[ $? -eq 3 ] && grep -q 'not implemented' '$scratch/a.txt'"
 "$GRANPACK_EXE" info "$scratch/does_not_exist.h5" > "$scratch/i.txt" 2>&1
 check "info on a missing file: exit 2" "[ $? -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/i.txt'"
 

@@ -11,10 +11,11 @@ namespace granpack {
 /// this sub-box to its owner. Returns the number of grains this rank sent.
 template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim>& d);
 
-/// Redistributes an arbitrary initial split (e.g. the slices read from a file) to the
-/// spatial owners. Same as migrate(); named for intent.
-template <int dim> void distribute(System<dim>& sys, const Decomposition<dim>& d) {
-  migrate(sys, d);
-}
+/// Redistributes an arbitrary initial split (e.g. the slices read from a file, where a
+/// contact need not sit on the rank of its grains) to the spatial owners: grains by
+/// migrate(), then every contact to the rank owning its first grain, through a directory
+/// rank (id mod ranks) that learns each grain's owner. Throws if a contact names a grain
+/// that does not exist.
+template <int dim> void distribute(System<dim>& sys, const Decomposition<dim>& d);
 
 }  // namespace granpack

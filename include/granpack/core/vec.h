@@ -8,6 +8,9 @@ namespace granpack {
 /// Position, velocity, force: dim components.
 template <int dim> using Vec = Eigen::Matrix<double, dim, 1>;
 
+/// Second-order tensors (stress, virial): dim x dim.
+template <int dim> using Tensor = Eigen::Matrix<double, dim, dim>;
+
 /// Number of rotational degrees of freedom: 1 in 2D (about z), 3 in 3D.
 template <int dim> inline constexpr int rot_dim = dim * (dim - 1) / 2;
 

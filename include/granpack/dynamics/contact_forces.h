@@ -18,8 +18,6 @@
 
 namespace granpack {
 
-template <int dim> using Tensor = Eigen::Matrix<double, dim, dim>;
-
 /// What one force evaluation measured on this rank's pairs.
 template <int dim> struct ForceSums {
   Tensor<dim> virial = Tensor<dim>::Zero();          ///< sum F_ij (x) r_ij, all contact forces

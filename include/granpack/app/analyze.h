@@ -1,0 +1,23 @@
+#pragma once
+// `granpack analyze FILE.h5`: the packing's characterisation after [AR] (docs/analysis.md),
+// computed on any rank count from a configuration file. Collective on world.
+#include <mpi.h>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace granpack {
+
+struct AnalyzeOptions {
+  std::filesystem::path file;
+  std::optional<std::filesystem::path> json;  ///< also write the results here
+  /// Force-carrying threshold as a fraction of a^2 P (a^(dim-1) P in 2D), P the measured
+  /// pressure: the [AR] equilibrium tolerance, below which forces are not resolved.
+  double threshold = 1e-4;
+};
+
+/// Returns the JSON text of the results (on every rank); rank 0 prints the table.
+std::string analyze_file(MPI_Comm world, const AnalyzeOptions& options);
+
+}  // namespace granpack

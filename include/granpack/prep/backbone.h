@@ -1,0 +1,31 @@
+#pragma once
+// The force-carrying backbone of a distributed packing: the iterative rattler rule of [AR]
+// sec. III B run across ranks (a contact's two grains may live on two ranks). Used by the
+// stages (report metrics) and by `granpack analyze`. Collective on the decomposition.
+#include <cstdint>
+#include <vector>
+
+#include "granpack/analysis/coordination.h"
+#include "granpack/comm/halo.h"
+
+namespace granpack {
+
+struct StateMetrics {
+  double z = 0, z_star = 0, x0 = 0;
+  std::int64_t backbone_contacts = 0, rattlers = 0, n = 0;
+};
+
+struct Backbone {
+  std::vector<std::uint8_t> rattler;  ///< per local particle (ghost flags are copies)
+  std::vector<double> counts;         ///< backbone contacts per owned particle
+  StateMetrics metrics;
+};
+
+/// `carrying`: this rank's force-carrying contacts by local index (ghosts included).
+/// min_contacts: dim + 1 without friction, 2 with friction.
+template <int dim>
+Backbone find_backbone(const ParticleStore<dim>& p, const Halo<dim>& halo,
+                       const Decomposition<dim>& d, const std::vector<CarryingContact>& carrying,
+                       int min_contacts);
+
+}  // namespace granpack

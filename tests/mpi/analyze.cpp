@@ -1,0 +1,54 @@
+// `granpack analyze` on a packing written by the engine: known values on the FCC case, and
+// the same results on 1 rank as on all ranks (counts exactly, reals within 1e-12).
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "granpack/app/analyze.h"
+#include "granpack/prep/run_deck.h"
+#include "test_paths.h"
+
+using namespace granpack;
+
+TEST(Analyze, FccPackingAndRankCountInvariance) {
+  int size = 1, rank = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const auto out = test::scratch_dir("analyze_fcc_np" + std::to_string(size));
+  RunOptions opt;
+  opt.deck = test::source_dir() / "jobs/decks/ci/fcc_hertz.toml";
+  opt.output_dir = out;
+  opt.quiet = true;
+  ASSERT_EQ(run_deck(MPI_COMM_WORLD, opt), 0);
+
+  AnalyzeOptions a;
+  a.file = out / "final.h5";
+  testing::internal::CaptureStdout();
+  const auto all = nlohmann::json::parse(analyze_file(MPI_COMM_WORLD, a));
+  testing::internal::GetCapturedStdout();
+  EXPECT_EQ(all["n"], 256);
+  EXPECT_EQ(all["backbone_contacts"], 1536);
+  EXPECT_EQ(all["rattlers"], 0);
+  EXPECT_DOUBLE_EQ(all["z"].get<double>(), 12.0);
+  EXPECT_NEAR(all["Z_2"].get<double>(), 1.0, 1e-12);  // every contact carries the same force
+  EXPECT_NEAR(all["Z_5_3"].get<double>(), 1.0, 1e-12);
+  // eq. (22) neglects the deflection: its relative error is of order h/a = 2.67e-5 here.
+  EXPECT_GT(all["eq22_relative_error"].get<double>(), 1e-5);
+  EXPECT_LT(all["eq22_relative_error"].get<double>(), 1e-4);
+
+  if (rank != 0) return;
+  testing::internal::CaptureStdout();
+  const auto one = nlohmann::json::parse(analyze_file(MPI_COMM_SELF, a));
+  testing::internal::GetCapturedStdout();
+  for (auto& [key, v] : all.items()) {
+    if (v.is_number_integer()) {
+      EXPECT_EQ(v, one[key]) << key;
+    } else if (v.is_number_float()) {
+      // A relative error (a dimensionless difference from 1) is compared in absolute terms.
+      const double scale = key == "eq22_relative_error" ? 1.0 : std::abs(v.get<double>());
+      EXPECT_NEAR(v.get<double>(), one[key].get<double>(), 1e-12 * scale) << key;
+    }
+  }
+}
