@@ -142,6 +142,11 @@ EquilibriumTolerances read_tolerances(TableReader& r) {
   return t;
 }
 
+/// The raw value of a key of a table known to hold it.
+const toml::value& v_table(const toml::value& table, const std::string& key) {
+  return table.as_table().at(key);
+}
+
 StageSpec read_stage(const toml::value& v, int index, const std::string& file,
                      const SampleSpec& sample) {
   std::string path = "stage[" + std::to_string(index) + "]";
@@ -164,7 +169,51 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
                                       "solid fraction of the random placement")};
   } else if (st.kind == "compress") {
     CompressStage c;
-    c.pressure = rk.number("pressure", Range::positive(), "prescribed pressure P in Pa");
+    const int dim = sample.dimension;
+    const char* axis_names[] = {"x", "y", "z"};
+    c.fixed.assign(dim, false);
+    if (rk.has("fixed_axes")) {
+      const toml::value& arr = v_table(v, "fixed_axes");
+      bool ok = arr.is_array();
+      if (ok)
+        for (const auto& e : arr.as_array()) {
+          int axis = -1;
+          for (int a = 0; a < dim; ++a)
+            if (e.is_string() && e.as_string().str == axis_names[a]) axis = a;
+          if (axis < 0 || c.fixed[axis]) ok = false;
+          else c.fixed[axis] = true;
+        }
+      rk.accept("fixed_axes");
+      if (!ok)
+        rk.fail("fixed_axes", "= " + toml_text(arr) + ": expected an array of distinct axis names among " +
+                                  std::string(dim == 3 ? "\"x\", \"y\", \"z\"" : "\"x\", \"y\""));
+      int n_fixed = 0;
+      for (bool f : c.fixed) n_fixed += f;
+      if (n_fixed == dim) rk.fail("fixed_axes", "fixes every axis: nothing is stress-controlled");
+    }
+    if (rk.has("stress")) {
+      if (rk.has("pressure")) rk.fail("stress", "give either pressure (isotropic) or stress (per axis), not both");
+      const toml::value& arr = v_table(v, "stress");
+      rk.accept("stress");
+      bool ok = arr.is_array() && arr.as_array().size() == std::size_t(dim);
+      if (ok)
+        for (const auto& e : arr.as_array()) {
+          double x = e.is_floating() ? e.as_floating() : e.is_integer() ? double(e.as_integer()) : -1;
+          ok = ok && x > 0 && std::isfinite(x);
+          c.stress.push_back(x);
+        }
+      if (!ok)
+        rk.fail("stress", "= " + toml_text(arr) + ": expected " + std::to_string(dim) +
+                              " positive prescribed stresses Sigma_a in Pa, one per axis");
+    } else {
+      c.pressure = rk.number("pressure", Range::positive(), "prescribed pressure P in Pa");
+      c.stress.assign(dim, c.pressure);
+    }
+    double sum = 0;
+    int controlled = 0;
+    for (int a = 0; a < dim; ++a)
+      if (!c.fixed[a]) sum += c.stress[a], ++controlled;
+    c.pressure = sum / controlled;
     if (rk.has("inertia_max"))
       c.inertia_max = rk.number("inertia_max", Range::positive(),
                                 "cap on the inertia number I of the strain rate");

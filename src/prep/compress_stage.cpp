@@ -44,7 +44,10 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
     total_mass += ctx.system.particles.mass[i];
   MPI_Allreduce(MPI_IN_PLACE, &total_mass, 1, MPI_DOUBLE, MPI_SUM, ctx.world);
   s.cell.mass = c.cell_mass * total_mass;
-  s.cell.target = Vec<dim>::Constant(P);
+  for (int k = 0; k < dim; ++k) {
+    s.cell.target[k] = c.stress[k];
+    s.cell.fixed[k] = c.fixed[k];
+  }
   // Inertia number I = eps_dot sqrt(m / (a P)) (eq. 23), m the mass of a grain of diameter a
   // (in 2D, per unit thickness: I = eps_dot sqrt(m / P)).
   const double inertia_time = std::sqrt(grain_mass / ((dim == 3 ? a : 1.0) * P));

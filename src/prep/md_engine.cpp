@@ -145,7 +145,8 @@ EquilibriumMeasure MdEngine<dim>::measure(double force_scale, double stress_scal
   m.force = std::sqrt(global_max(ctx_.world, fmax)) / force_scale;
   double err = 0;
   for (int a = 0; a < dim; ++a)
-    err = std::max(err, std::abs(obs_.stress_elastic(a, a) - settings_.cell.target[a]));
+    if (!settings_.cell.fixed[a])
+      err = std::max(err, std::abs(obs_.stress_elastic(a, a) - settings_.cell.target[a]));
   m.stress = err / stress_scale;
   // Kinetic energy, leaving out the spin of grains without any contact: a caged rattler
   // spinning freely keeps its rotational energy forever (only normal damping and friction

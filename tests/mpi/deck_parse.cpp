@@ -93,6 +93,25 @@ TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
   EXPECT_NE(message_of(with("[sample]", "sample = 3\n[sampl]")).find("'sample' must be a table"), std::string::npos);
 }
 
+TEST(Deck, PerAxisStressAndFixedAxes) {
+  std::string t = kGood;
+  t.replace(t.find("pressure = 100.0"), 16, "stress = [100.0, 300]\nfixed_axes = [\"x\"]");
+  Deck d = parse_deck(t, "aniso.toml");
+  const auto& c = std::get<CompressStage>(d.stages[0].params);
+  EXPECT_EQ(c.stress, (std::vector<double>{100.0, 300.0}));
+  EXPECT_EQ(c.fixed, (std::vector<bool>{true, false}));
+  EXPECT_DOUBLE_EQ(c.pressure, 300.0);  // mean over the stress-controlled axes
+  std::string both = t;
+  both.replace(both.find("stress = ["), 0, "pressure = 5.0\n");
+  EXPECT_NE(message_of(both).find("either pressure"), std::string::npos);
+  std::string all_fixed = t;
+  all_fixed.replace(all_fixed.find("[\"x\"]"), 5, "[\"x\", \"y\"]");
+  EXPECT_NE(message_of(all_fixed).find("nothing is stress-controlled"), std::string::npos);
+  std::string z_in_2d = t;
+  z_in_2d.replace(z_in_2d.find("[\"x\"]"), 5, "[\"z\"]");
+  EXPECT_NE(message_of(z_in_2d).find("distinct axis names among \"x\", \"y\""), std::string::npos);
+}
+
 TEST(Deck, EveryShippedDeckIsValid) {
   int count = 0;
   for (const auto& e : std::filesystem::recursive_directory_iterator(test::source_dir() / "jobs" / "decks")) {

@@ -56,7 +56,9 @@ struct RandomStage {
   double phi = 0;  ///< solid fraction of the non-overlapping random placement
 };
 struct CompressStage {
-  double pressure = 0;                  ///< Pa
+  double pressure = 0;                  ///< Pa: mean of the prescribed stresses (scales, kappa)
+  std::vector<double> stress;           ///< prescribed Sigma_a per axis, Pa (dim entries)
+  std::vector<bool> fixed;              ///< axes kept at constant length (dim entries)
   std::optional<double> inertia_max;    ///< cap on I = eps_dot sqrt(m/(aP)), eq. (23)
   double cell_mass = 1.0;               ///< M / (sum of grain masses)
   std::int64_t max_steps = 0;           ///< 0: no limit
