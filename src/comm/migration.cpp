@@ -9,6 +9,29 @@
 
 namespace granpack {
 
+namespace {
+/// MPI_Alltoallv of double buffers, one per destination rank.
+std::vector<std::vector<double>> exchange(MPI_Comm comm, const std::vector<std::vector<double>>& out) {
+  const int n = static_cast<int>(out.size());
+  std::vector<int> sc(n), rc(n), sd(n, 0), rd(n, 0);
+  std::vector<double> sbuf;
+  for (int r = 0; r < n; ++r) {
+    sc[r] = static_cast<int>(out[r].size());
+    sd[r] = static_cast<int>(sbuf.size());
+    sbuf.insert(sbuf.end(), out[r].begin(), out[r].end());
+  }
+  MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
+  int total = 0;
+  for (int r = 0; r < n; ++r) rd[r] = total, total += rc[r];
+  std::vector<double> rbuf(static_cast<std::size_t>(total));
+  MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_DOUBLE, rbuf.data(), rc.data(), rd.data(),
+                MPI_DOUBLE, comm);
+  std::vector<std::vector<double>> in(n);
+  for (int r = 0; r < n; ++r) in[r].assign(rbuf.begin() + rd[r], rbuf.begin() + rd[r] + rc[r]);
+  return in;
+}
+}  // namespace
+
 template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim>& d) {
   auto& p = sys.particles;
   GRANPACK_CHECK(p.n_ghost() == 0, "migrate() needs the ghosts cleared");
@@ -48,27 +71,11 @@ template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim
   // All-to-all exchange. Simple and robust for any displacement; O(ranks) counts per call,
   // which is fine at the rank counts of this machine (neighbour-only exchange is an
   // optimisation for large rank counts, issue 8).
-  std::vector<int> send_counts(nranks), recv_counts(nranks), sdispl(nranks, 0), rdispl(nranks, 0);
-  for (int r = 0; r < nranks; ++r) send_counts[r] = static_cast<int>(out[r].size());
-  MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, d.comm());
-  std::vector<double> send_buf, recv_buf;
+  const auto in = exchange(d.comm(), out);
   for (int r = 0; r < nranks; ++r) {
-    sdispl[r] = static_cast<int>(send_buf.size());
-    send_buf.insert(send_buf.end(), out[r].begin(), out[r].end());
-  }
-  int total = 0;
-  for (int r = 0; r < nranks; ++r) {
-    rdispl[r] = total;
-    total += recv_counts[r];
-  }
-  recv_buf.resize(static_cast<std::size_t>(total));
-  MPI_Alltoallv(send_buf.data(), send_counts.data(), sdispl.data(), MPI_DOUBLE, recv_buf.data(),
-                recv_counts.data(), rdispl.data(), MPI_DOUBLE, d.comm());
-
-  for (int r = 0; r < nranks; ++r) {
-    if (recv_counts[r] == 0) continue;
-    const double* b = recv_buf.data() + rdispl[r];
-    std::size_t pos = 0, end = static_cast<std::size_t>(recv_counts[r]);
+    if (in[r].empty()) continue;
+    const double* b = in[r].data();
+    std::size_t pos = 0, end = in[r].size();
     auto n = static_cast<std::size_t>(b[pos++]);
     for (std::size_t k = 0; k < n; ++k) p.add_owned(Packing<dim>::unpack_particle(b, pos));
     while (pos < end) {
@@ -81,28 +88,6 @@ template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim
   return leaving.size();
 }
 
-namespace {
-/// MPI_Alltoallv of double buffers, one per destination rank.
-std::vector<std::vector<double>> exchange(MPI_Comm comm, const std::vector<std::vector<double>>& out) {
-  const int n = static_cast<int>(out.size());
-  std::vector<int> sc(n), rc(n), sd(n, 0), rd(n, 0);
-  std::vector<double> sbuf;
-  for (int r = 0; r < n; ++r) {
-    sc[r] = static_cast<int>(out[r].size());
-    sd[r] = static_cast<int>(sbuf.size());
-    sbuf.insert(sbuf.end(), out[r].begin(), out[r].end());
-  }
-  MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
-  int total = 0;
-  for (int r = 0; r < n; ++r) rd[r] = total, total += rc[r];
-  std::vector<double> rbuf(static_cast<std::size_t>(total));
-  MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_DOUBLE, rbuf.data(), rc.data(), rd.data(),
-                MPI_DOUBLE, comm);
-  std::vector<std::vector<double>> in(n);
-  for (int r = 0; r < n; ++r) in[r].assign(rbuf.begin() + rd[r], rbuf.begin() + rd[r] + rc[r]);
-  return in;
-}
-}  // namespace
 
 template <int dim> void distribute(System<dim>& sys, const Decomposition<dim>& d) {
   migrate(sys, d);

@@ -6,7 +6,6 @@
 // Phi = 0.38 in 3D, this reaches the gas densities the protocols need (Phi = 0.45 in [AR]).
 // Every rank draws all n positions from the same seeded stream and keeps its own, so the
 // sample does not depend on the rank count.
-#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -17,7 +16,6 @@
 namespace granpack {
 
 template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStage& p) {
-  auto t0 = std::chrono::steady_clock::now();
   const auto& sample = ctx.deck->sample;
   GRANPACK_CHECK(ctx.system.particles.size() == 0,
                  "stage " << ctx.stage_index << " (random) needs an empty sample");
@@ -47,10 +45,7 @@ template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStag
     q.position = s;
     ctx.system.particles.add_owned(q);
   }
-  StageReport r = remove_overlaps(ctx);
-  r.phi = ctx.solid_fraction();
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return r;
+  return remove_overlaps(ctx);
 }
 
 template StageReport run_random<2>(RunContext<2>&, const RandomStage&);

@@ -70,6 +70,7 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
         st.params);
     r.name = st.name;
     r.kind = st.kind;
+    if (!r.phi && ctx.decomposition) r.phi = ctx.solid_fraction();
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     report.stages.push_back(r);
     log.info("  done: phi " + fmt_opt(r.phi) + ", steps " + std::to_string(r.steps) +

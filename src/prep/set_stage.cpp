@@ -17,9 +17,7 @@ template <int dim> StageReport run_set(RunContext<dim>& ctx, const SetStage& p) 
     ctx.material.damping = *p.damping;
   }
   ctx.log->info(os.str());
-  StageReport r;
-  if (ctx.system.particles.size() > 0 || ctx.decomposition) r.phi = ctx.solid_fraction();
-  return r;
+  return StageReport{};
 }
 
 template StageReport run_set<2>(RunContext<2>&, const SetStage&);

@@ -1,5 +1,4 @@
 // `write` stage and the shared writer of configuration files.
-#include <chrono>
 
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
@@ -32,16 +31,12 @@ template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem:
 }
 
 template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage& p) {
-  auto t0 = std::chrono::steady_clock::now();
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index
                                              << " (write): there is no sample yet; put a "
                                                 "lattice or random stage before it");
   write_state(ctx, ctx.output_dir / p.file);
   ctx.log->info("  wrote " + (ctx.output_dir / p.file).string());
-  StageReport r;
-  r.phi = ctx.solid_fraction();
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return r;
+  return StageReport{};
 }
 
 template void write_state<2>(RunContext<2>&, const std::filesystem::path&);
