@@ -147,8 +147,25 @@ const toml::value& v_table(const toml::value& table, const std::string& key) {
   return table.as_table().at(key);
 }
 
+/// The keys compress and pressure_steps share.
+void read_compress_controls(TableReader& rk, CompressStage& c) {
+  if (rk.has("inertia_max"))
+    c.inertia_max = rk.number("inertia_max", Range::positive(),
+                              "cap on the inertia number I of the strain rate");
+  c.cell_mass = rk.number_or("cell_mass", 1.0, Range::positive(),
+                             "generalised cell mass M / total grain mass");
+  c.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
+  c.tolerance = read_tolerances(rk);
+}
+
+std::uint64_t read_seed(TableReader& rk, const SampleSpec& sample, int index) {
+  return static_cast<std::uint64_t>(
+      rk.integer_or("seed", static_cast<std::int64_t>(sample.seed) + 1000 + index,
+                    Range::non_negative(), "random seed of the stage"));
+}
+
 StageSpec read_stage(const toml::value& v, int index, const std::string& file,
-                     const SampleSpec& sample) {
+                     const SampleSpec& sample, bool after_compress) {
   std::string path = "stage[" + std::to_string(index) + "]";
   if (!v.is_table())
     throw InputError(file + ": " + path + " must be a table ([[stage]])");
@@ -214,13 +231,7 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
     for (int a = 0; a < dim; ++a)
       if (!c.fixed[a]) sum += c.stress[a], ++controlled;
     c.pressure = sum / controlled;
-    if (rk.has("inertia_max"))
-      c.inertia_max = rk.number("inertia_max", Range::positive(),
-                                "cap on the inertia number I of the strain rate");
-    c.cell_mass = rk.number_or("cell_mass", 1.0, Range::positive(),
-                               "generalised cell mass M / total grain mass");
-    c.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
-    c.tolerance = read_tolerances(rk);
+    read_compress_controls(rk, c);
     st.params = c;
   } else if (st.kind == "set") {
     SetStage s;
@@ -237,6 +248,61 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
     if (f.find('/') != std::string::npos || f.size() < 4 || f.substr(f.size() - 3) != ".h5")
       rk.fail("file", "= \"" + f + "\": must be a plain file name ending in .h5 (no directories)");
     st.params = WriteStage{f};
+  } else if (st.kind == "ed_gas") {
+    EdGasStage e;
+    e.collisions_per_grain = rk.number("collisions_per_grain", Range::positive(),
+                                       "mean number of collisions per grain (n_coll)");
+    e.seed = read_seed(rk, sample, index);
+    st.params = e;
+  } else if (st.kind == "ls_compress") {
+    LsCompressStage l;
+    const double phi_max = sample.dimension == 3 ? 0.64 : 0.82;
+    l.phi = rk.number("phi", Range::open(0.0, phi_max), "target solid fraction (below jamming)");
+    l.growth_rate = rk.number_or("growth_rate", l.growth_rate, Range::positive(),
+                                 "d(diameter)/dt in units of the rms velocity");
+    l.rescale_every = rk.number_or("rescale_every", l.rescale_every, Range::positive(),
+                                   "collisions per grain between kinetic-energy resets");
+    if (rk.has("report_phi")) {
+      const toml::value& arr = v_table(v, "report_phi");
+      rk.accept("report_phi");
+      l.report_phi.clear();
+      bool ok = arr.is_array();
+      if (ok)
+        for (const auto& e : arr.as_array()) {
+          const double x = e.is_floating() ? e.as_floating() : e.is_integer() ? double(e.as_integer()) : -1;
+          ok = ok && x > 0 && x < l.phi && (l.report_phi.empty() || x > l.report_phi.back());
+          l.report_phi.push_back(x);
+        }
+      if (!ok)
+        rk.fail("report_phi", "= " + toml_text(arr) + ": expected increasing solid fractions below phi");
+    } else {
+      std::erase_if(l.report_phi, [&](double x) { return x >= l.phi; });
+    }
+    l.seed = read_seed(rk, sample, index);
+    st.params = l;
+  } else if (st.kind == "expand") {
+    st.params = ExpandStage{rk.number("factor", Range{1.0, 2.0, true, false},
+                                      "homothetic expansion factor lambda, in (1, 2]")};
+  } else if (st.kind == "pressure_steps") {
+    if (!after_compress)
+      rk.fail("kind", "= \"pressure_steps\" needs an earlier compress stage: its pressure is P_0");
+    PressureStepsStage ps;
+    ps.factor = rk.number("factor", Range::positive(), "pressure ratio between levels (e.g. 3.1623)");
+    if (ps.factor == 1.0) rk.fail("factor", "= 1: the pressure would not change");
+    ps.count = rk.integer("count", {1, 1000}, "number of pressure levels");
+    ps.write = rk.boolean_or("write", true, "write each equilibrated level to <name>_<k>.h5");
+    read_compress_controls(rk, ps.compress);
+    st.params = ps;
+  } else if (st.kind == "fix_rattlers") {
+    if (!after_compress)
+      rk.fail("kind", "= \"fix_rattlers\" needs an earlier compress stage (an equilibrated backbone)");
+    FixRattlersStage f;
+    f.force = rk.number_or("force", f.force, Range::open(0.0, 1.0), "push magnitude / (a^2 P)");
+    f.tolerance = rk.number_or("tolerance", f.tolerance, Range::open(0.0, 1.0),
+                               "net force on every rattler / push magnitude at equilibrium");
+    f.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
+    f.seed = read_seed(rk, sample, index);
+    st.params = f;
   }
   rk.finish();
   return st;
@@ -245,7 +311,9 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
 }  // namespace
 
 const std::vector<std::string>& stage_kinds() {
-  static const std::vector<std::string> kinds = {"lattice", "random", "compress", "set", "write"};
+  static const std::vector<std::string> kinds = {
+      "lattice", "random",       "ed_gas",       "ls_compress", "expand",
+      "compress", "pressure_steps", "fix_rattlers", "set",         "write"};
   return kinds;
 }
 
@@ -285,8 +353,11 @@ Deck parse_deck(const std::string& text, const std::string& file_name) {
     throw InputError(file_name + ":" + std::to_string(stages.location().line()) +
                      ": 'stage' must be an array of tables, written [[stage]]");
   int index = 0;
-  for (const auto& s : stages.as_array())
-    deck.stages.push_back(read_stage(s, index++, file_name, deck.sample));
+  bool after_compress = false;
+  for (const auto& s : stages.as_array()) {
+    deck.stages.push_back(read_stage(s, index++, file_name, deck.sample, after_compress));
+    after_compress = after_compress || deck.stages.back().kind == "compress";
+  }
   if (deck.stages.empty())
     throw InputError(file_name + ": no stages: add at least one [[stage]] table");
   return deck;

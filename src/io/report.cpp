@@ -12,6 +12,32 @@ namespace {
 template <class T> nlohmann::json opt(const std::optional<T>& v) {
   return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
+nlohmann::json stage_json(const StageReport& s) {
+  nlohmann::json e;
+  e["name"] = s.name;
+  e["kind"] = s.kind;
+  e["steps"] = s.steps;
+  e["time"] = s.time;
+  e["equilibrated"] = opt(s.equilibrated);
+  e["phi"] = opt(s.phi);
+  e["pressure"] = opt(s.pressure);
+  e["kappa"] = opt(s.kappa);
+  e["inertia_max"] = opt(s.inertia_max);
+  e["z"] = opt(s.z);
+  e["z_star"] = opt(s.z_star);
+  e["x0"] = opt(s.x0);
+  e["x2"] = opt(s.x2);
+  e["z2"] = opt(s.z2);
+  nlohmann::json values = nlohmann::json::object();
+  for (const auto& [key, value] : s.values) values[key] = value;
+  e["values"] = values;
+  if (!s.levels.empty()) {
+    e["levels"] = nlohmann::json::array();
+    for (const auto& l : s.levels) e["levels"].push_back(stage_json(l));
+  }
+  e["wall_seconds"] = s.wall_seconds;
+  return e;
+}
 }  // namespace
 
 std::string to_json(const RunReport& r) {
@@ -24,23 +50,7 @@ std::string to_json(const RunReport& r) {
   j["final"] = r.final_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.final_file);
   j["wall_seconds"] = r.wall_seconds;
   j["stages"] = nlohmann::json::array();
-  for (const auto& s : r.stages) {
-    nlohmann::json e;
-    e["name"] = s.name;
-    e["kind"] = s.kind;
-    e["steps"] = s.steps;
-    e["time"] = s.time;
-    e["equilibrated"] = opt(s.equilibrated);
-    e["phi"] = opt(s.phi);
-    e["pressure"] = opt(s.pressure);
-    e["kappa"] = opt(s.kappa);
-    e["inertia_max"] = opt(s.inertia_max);
-    e["z"] = opt(s.z);
-    e["z_star"] = opt(s.z_star);
-    e["x0"] = opt(s.x0);
-    e["wall_seconds"] = s.wall_seconds;
-    j["stages"].push_back(e);
-  }
+  for (const auto& s : r.stages) j["stages"].push_back(stage_json(s));
   return j.dump(2) + "\n";
 }
 

@@ -23,9 +23,19 @@ Backbone find_backbone(const ParticleStore<dim>& p, const Halo<dim>& halo,
     halo.forward_values(flags, d);
     for (std::size_t i = p.n_owned(); i < p.size(); ++i) b.rattler[i] = flags[i] > 0.5;
   }
-  std::int64_t local_r = 0, local_c = 0;
-  for (std::size_t i = 0; i < p.n_owned(); ++i) local_r += b.rattler[i];
-  for (const auto& c : carrying) local_c += !(b.rattler[c.i] || b.rattler[c.j]);
+  std::int64_t local_r = 0, local_c = 0, local_2 = 0;
+  double force_sums[2] = {0, 0};  // sum N, sum N^2 over backbone contacts
+  for (std::size_t i = 0; i < p.n_owned(); ++i) {
+    local_r += b.rattler[i];
+    local_2 += !b.rattler[i] && b.counts[i] == 2;
+  }
+  for (const auto& c : carrying)
+    if (!(b.rattler[c.i] || b.rattler[c.j])) {
+      ++local_c;
+      force_sums[0] += c.normal_force;
+      force_sums[1] += c.normal_force * c.normal_force;
+    }
+  MPI_Allreduce(MPI_IN_PLACE, force_sums, 2, MPI_DOUBLE, MPI_SUM, d.comm());
   auto& m = b.metrics;
   m.n = global_sum(d.comm(), static_cast<std::int64_t>(p.n_owned()));
   m.rattlers = global_sum(d.comm(), local_r);
@@ -33,6 +43,11 @@ Backbone find_backbone(const ParticleStore<dim>& p, const Halo<dim>& halo,
   m.x0 = m.n ? double(m.rattlers) / double(m.n) : 0.0;
   m.z = m.n ? 2.0 * double(m.backbone_contacts) / double(m.n) : 0.0;
   m.z_star = m.x0 < 1 ? m.z / (1 - m.x0) : 0.0;
+  m.x2 = m.n ? double(global_sum(d.comm(), local_2)) / double(m.n) : 0.0;
+  if (m.backbone_contacts > 0) {
+    const double mean = force_sums[0] / double(m.backbone_contacts);
+    m.z2 = force_sums[1] / double(m.backbone_contacts) / (mean * mean);
+  }
   return b;
 }
 

@@ -117,13 +117,18 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   r.z = sm.z;
   r.z_star = sm.z_star;
   r.x0 = sm.x0;
+  r.x2 = sm.x2;
+  r.z2 = sm.z2;
+  ctx.stress = c.stress;
+  ctx.fixed = c.fixed;
+  ctx.pressure = P;
   {
     char buf[320];
     std::snprintf(buf, sizeof buf,
-                  "  %s: phi %.6f, P %.6g Pa, z %.4f, z* %.4f, x0 %.4f, I reached %.3g, "
+                  "  %s: phi %.6f, P %.6g Pa, z %.4f, z* %.4f, x0 %.4f, x2 %.4f, Z(2) %.4f, I reached %.3g, "
                   "%lld list rebuilds",
                   equilibrated ? "equilibrated" : "NOT equilibrated (max_steps reached)", *r.phi,
-                  *r.pressure, sm.z, sm.z_star, sm.x0, inertia_reached,
+                  *r.pressure, sm.z, sm.z_star, sm.x0, sm.x2, sm.z2, inertia_reached,
                   static_cast<long long>(engine.rebuilds()));
     ctx.log->info(buf);
   }

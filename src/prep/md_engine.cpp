@@ -44,6 +44,7 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   auto& sys = ctx_.system;
   const ForceSums<dim> sums = loop_.compute(sys, list_, law_, settings_.dt);
   halo_.reverse(sys.particles, *ctx_.decomposition);
+  if (settings_.mobile) hold_and_push();
 
   // One all-reduce for every global sum of the step.
   constexpr int nt = dim * dim;
@@ -68,6 +69,21 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   obs_.kinetic_energy = global[2 * nt];
   obs_.contacts = static_cast<std::int64_t>(global[2 * nt + 1]);
   obs_.max_overlap = global_max(ctx_.world, sums.max_overlap);
+}
+
+template <int dim> void MdEngine<dim>::hold_and_push() {
+  auto& p = ctx_.system.particles;
+  const auto& mobile = *settings_.mobile;
+  for (std::size_t i = 0; i < p.n_owned(); ++i) {
+    if (std::binary_search(mobile.begin(), mobile.end(), p.id[i])) {
+      if (settings_.body_force) p.force[i] += settings_.body_force(p.id[i]);
+    } else {
+      p.force[i].setZero();
+      p.torque[i].setZero();
+      p.velocity[i].setZero();
+      p.angular_velocity[i].setZero();
+    }
+  }
 }
 
 template <int dim> void MdEngine<dim>::step() {

@@ -65,12 +65,20 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
           else if constexpr (std::is_same_v<P, CompressStage>) return run_compress(ctx, p);
           else if constexpr (std::is_same_v<P, SetStage>) return run_set(ctx, p);
           else if constexpr (std::is_same_v<P, WriteStage>) return run_write(ctx, p);
+          else if constexpr (std::is_same_v<P, EdGasStage>) return run_ed_gas(ctx, p);
+          else if constexpr (std::is_same_v<P, LsCompressStage>) return run_ls_compress(ctx, p);
+          else if constexpr (std::is_same_v<P, ExpandStage>) return run_expand(ctx, p);
+          else if constexpr (std::is_same_v<P, PressureStepsStage>) return run_pressure_steps(ctx, p);
+          else if constexpr (std::is_same_v<P, FixRattlersStage>) return run_fix_rattlers(ctx, p);
           else throw NotImplemented("stage kind '" + st.kind + "' is not implemented yet");
         },
         st.params);
     r.name = st.name;
     r.kind = st.kind;
     if (!r.phi && ctx.decomposition) r.phi = ctx.solid_fraction();
+    // set and write leave the packing as it was: its network metrics carry over.
+    if ((st.kind == "set" || st.kind == "write") && !report.stages.empty())
+      r.copy_state_metrics(report.stages.back());
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     report.stages.push_back(r);
     log.info("  done: phi " + fmt_opt(r.phi) + ", steps " + std::to_string(r.steps) +

@@ -1,5 +1,7 @@
 // `write` stage and the shared writer of configuration files.
 
+#include <algorithm>
+
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/prep/stages.h"
@@ -7,7 +9,7 @@
 namespace granpack {
 
 bool stage_implemented(const std::string& kind) {
-  return kind == "lattice" || kind == "random" || kind == "compress" || kind == "set" || kind == "write";
+  return std::find(stage_kinds().begin(), stage_kinds().end(), kind) != stage_kinds().end();
 }
 
 template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file) {

@@ -70,12 +70,47 @@ struct SetStage {
 struct WriteStage {
   std::string file;  ///< relative to the output directory
 };
+/// Event-driven hard-sphere gas at fixed volume ([AR] sec. III melting, sec. IV B mixing).
+struct EdGasStage {
+  double collisions_per_grain = 0;  ///< n_coll: stop after n_coll * n collisions
+  std::uint64_t seed = 0;           ///< Maxwell velocity draw
+};
+/// Lubachevsky-Stillinger growth to a solid fraction ([AR] A' samples).
+struct LsCompressStage {
+  double phi = 0;              ///< target solid fraction
+  double growth_rate = 1e-2;   ///< d(diameter)/dt in units of the rms velocity
+  double rescale_every = 1.0;  ///< collisions per grain between kinetic-energy resets
+  std::vector<double> report_phi = {0.49, 0.58};  ///< collisions per grain counted between these
+  std::uint64_t seed = 0;
+};
+/// Homothetic expansion of the cell and the grain centres by a factor lambda ([AR] C).
+struct ExpandStage {
+  double factor = 1;
+};
+/// Quasistatic compression: `count` compress stages at P_k = P_0 factor^k, k = 1..count, P_0
+/// the pressure of the previous compress stage; each level is equilibrated and recorded.
+struct PressureStepsStage {
+  double factor = 0;
+  std::int64_t count = 0;
+  bool write = true;       ///< write each equilibrated level to <name>_<k>.h5
+  CompressStage compress;  ///< controls (inertia_max, cell_mass, max_steps, tolerances)
+};
+/// Treatment II of [AR] sec. III C: backbone frozen, rattlers pushed by small random forces
+/// onto it (frictionless) until they rest in equilibrium.
+struct FixRattlersStage {
+  double force = 1e-2;       ///< push magnitude / (a^2 P) (2D: a P)
+  double tolerance = 1e-3;   ///< equilibrium: net force on every rattler < tolerance x push
+  std::int64_t max_steps = 0;
+  std::uint64_t seed = 0;
+};
 
-using StageParams = std::variant<LatticeStage, RandomStage, CompressStage, SetStage, WriteStage>;
+using StageParams = std::variant<LatticeStage, RandomStage, CompressStage, SetStage, WriteStage,
+                                 EdGasStage, LsCompressStage, ExpandStage, PressureStepsStage,
+                                 FixRattlersStage>;
 
 struct StageSpec {
   int index = 0;     ///< 0-based position in the deck
-  std::string kind;  ///< "lattice", "random", "compress", "set", "write"
+  std::string kind;  ///< one of stage_kinds()
   std::string name;  ///< user label (defaults to kind)
   StageParams params;
 };

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace granpack {
@@ -16,7 +17,24 @@ struct StageReport {
   double time = 0;               ///< simulated time spent in the stage, s
   std::optional<bool> equilibrated;
   std::optional<double> phi, pressure, kappa, inertia_max, z, z_star, x0;
+  std::optional<double> x2;      ///< fraction of grains with exactly 2 backbone contacts
+  std::optional<double> z2;      ///< Z(2) = <N^2>/<N>^2 over backbone contacts (eq. 27)
+  /// Stage-specific numbers (e.g. collisions per grain of an event-driven stage), in order.
+  std::vector<std::pair<std::string, double>> values;
+  /// Sub-entries (one per pressure level of pressure_steps), same schema.
+  std::vector<StageReport> levels;
   double wall_seconds = 0;
+
+  /// Copies the state of the packing (pressure, kappa, z, z*, x0, x2, Z(2)) from another entry.
+  void copy_state_metrics(const StageReport& from) {
+    pressure = from.pressure;
+    kappa = from.kappa;
+    z = from.z;
+    z_star = from.z_star;
+    x0 = from.x0;
+    x2 = from.x2;
+    z2 = from.z2;
+  }
 };
 
 struct RunReport {

@@ -12,6 +12,8 @@ namespace granpack {
 
 struct StateMetrics {
   double z = 0, z_star = 0, x0 = 0;
+  double x2 = 0;  ///< fraction of all grains with exactly 2 backbone contacts
+  double z2 = 0;  ///< Z(2) = <N^2>/<N>^2 over the backbone contacts ([AR] eq. 27); 0 if none
   std::int64_t backbone_contacts = 0, rattlers = 0, n = 0;
 };
 

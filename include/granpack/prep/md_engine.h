@@ -7,6 +7,8 @@
 // Physics comes from the MPI-free kernels (contact law, force loop, integrator, cell
 // control); communication from comm/. Every public member is collective on ctx.world.
 #include <Eigen/Core>
+#include <functional>
+#include <vector>
 
 #include "granpack/comm/halo.h"
 #include "granpack/contact/contact_law.h"
@@ -25,6 +27,10 @@ template <int dim> struct MdSettings {
   CellControl<dim> cell;     ///< used when stress_control
   /// Largest overlap h / min(R_i, R_j) accepted before the run stops with a diagnosis.
   double max_overlap = 0.1;
+  /// When set (fix_rattlers), only the grains whose ids are in this sorted list move; the
+  /// others are held at rest. Mobile grains also feel body_force(id) if it is set.
+  const std::vector<GlobalId>* mobile = nullptr;
+  std::function<Vec<dim>(GlobalId)> body_force;
 };
 
 /// Global observables after a step (identical on every rank).
@@ -58,6 +64,8 @@ private:
   /// overlap. Collective; costs nothing unless something is wrong.
   void check_sanity();
   void forces_and_observables();
+  /// Holds the non-mobile grains at rest and adds the body forces (settings_.mobile).
+  void hold_and_push();
 
   RunContext<dim>& ctx_;
   ContactLaw<dim> law_;

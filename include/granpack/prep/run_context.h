@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 #include "granpack/comm/decomposition.h"
 #include "granpack/core/system.h"
@@ -26,6 +27,11 @@ template <int dim> struct RunContext {
   std::filesystem::path output_dir;
   int stage_index = -1;
   std::string stage_name;
+  /// The stresses and fixed axes of the last compress stage (pressure_steps scales them,
+  /// fix_rattlers takes its force scale from them); empty before any compress stage.
+  std::vector<double> stress;
+  std::vector<bool> fixed;
+  double pressure = 0;
 
   /// Solid fraction: sum of grain volumes (areas in 2D) over the cell's. Collective.
   double solid_fraction() const;

@@ -14,6 +14,11 @@ template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStag
 template <int dim> StageReport run_compress(RunContext<dim>& ctx, const CompressStage& p);
 template <int dim> StageReport run_set(RunContext<dim>& ctx, const SetStage& p);
 template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage& p);
+template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage& p);
+template <int dim> StageReport run_ls_compress(RunContext<dim>& ctx, const LsCompressStage& p);
+template <int dim> StageReport run_expand(RunContext<dim>& ctx, const ExpandStage& p);
+template <int dim> StageReport run_pressure_steps(RunContext<dim>& ctx, const PressureStepsStage& p);
+template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixRattlersStage& p);
 
 /// Removes the overlaps of randomly placed grains (fixed cell, soft repulsion, quench).
 template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx);

@@ -1,0 +1,820 @@
+#include "granpack/dynamics/hard_sphere_md.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <utility>
+
+#include "granpack/core/error.h"
+
+namespace granpack {
+
+namespace {
+
+/// Cells are at least (1 + margin) times the diameter they were built for, so a grain that
+/// sits a rounding error outside its nominal cell is still found by its neighbours.
+constexpr double kCellMargin = 1e-9;
+/// Overlap accepted at construction, relative to the sum of radii.
+constexpr double kOverlapTol = 1e-9;
+/// During growth a grid is built for diameters up to (1 + kGrowthHeadroom) times the current.
+constexpr double kGrowthHeadroom = 0.01;
+/// LS growth has jammed when, over kStallWindows windows of n collisions each, the grains
+/// travel less than kStallPath mean diameters (v_rms times the elapsed time): the mean free
+/// path is then at the level of round-off and the time no longer advances.
+constexpr double kStallPath = 1e-12;
+constexpr int kStallWindows = 3;
+
+template <int dim> double ball_volume(double r) {
+  if constexpr (dim == 3) return 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  else return std::numbers::pi * r * r;
+}
+
+/// x wrapped into [0, l).
+double wrap(double x, double l) {
+  x -= l * std::floor(x / l);
+  return (x >= l || x < 0.0) ? 0.0 : x;
+}
+
+/// Time to the first root of a t^2 + 2 b t + c = 0 for t >= 0 where the gap closes, or +inf.
+/// a = |v|^2 - sigma'^2, b = r.v - sigma sigma', c = |r|^2 - sigma^2 (r, v: relative position
+/// and velocity; sigma(t) = sigma + sigma' t the contact distance). The caller has already
+/// rejected b >= 0 && a >= 0 (never closer). `dr_norm_rate` is r.v - |r| sigma' (the rate of
+/// the gap |r| - sigma, times |r|), used only when the pair touches or overlaps (c <= 0).
+inline double first_contact(double a, double b, double c, double dr_norm_rate) {
+  if (c <= 0.0) return dr_norm_rate < 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
+  const double disc = b * b - a * c;
+  if (b < 0.0) {
+    if (disc < 0.0) return std::numeric_limits<double>::infinity(); // a > 0: misses
+    return c / (-b + std::sqrt(disc));                               // no cancellation
+  }
+  // b >= 0 and a < 0: growth overtakes the separation; disc > b^2 > 0.
+  return (b + std::sqrt(disc)) / (-a);
+}
+
+} // namespace
+
+// ---------------------------------------------------------------------------------------
+// Construction and accessors
+
+template <int dim>
+HardSphereMD<dim>::HardSphereMD(const Vec<dim>& box, std::vector<Vec<dim>> positions,
+                                std::vector<double> radii, std::vector<double> masses,
+                                std::vector<Vec<dim>> velocities)
+    : box_(box), half_box_(0.5 * box), mass_(std::move(masses)) {
+  const std::size_t n = positions.size();
+  GRANPACK_CHECK(n > 0, "HardSphereMD: no particles");
+  GRANPACK_CHECK(radii.size() == n && mass_.size() == n && velocities.size() == n,
+                 "HardSphereMD: " << n << " positions but " << radii.size() << " radii, "
+                                  << mass_.size() << " masses, " << velocities.size()
+                                  << " velocities");
+  GRANPACK_CHECK(n < static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()),
+                 "HardSphereMD: too many particles (" << n << ")");
+  for (int a = 0; a < dim; ++a)
+    GRANPACK_CHECK(std::isfinite(box[a]) && box[a] > 0,
+                   "HardSphereMD: box length " << a << " is " << box[a]);
+  st_.resize(n);
+  inv_mass_.resize(n);
+  double rmax = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    GRANPACK_CHECK(std::isfinite(radii[i]) && radii[i] > 0,
+                   "HardSphereMD: radius of particle " << i << " is " << radii[i]);
+    GRANPACK_CHECK(std::isfinite(mass_[i]) && mass_[i] > 0,
+                   "HardSphereMD: mass of particle " << i << " is " << mass_[i]);
+    GRANPACK_CHECK(positions[i].allFinite() && velocities[i].allFinite(),
+                   "HardSphereMD: non-finite position or velocity of particle " << i);
+    State& s = st_[i];
+    for (int a = 0; a < dim; ++a) s.x[a] = wrap(positions[i][a], box_[a]);
+    s.t = 0;
+    s.v = velocities[i];
+    s.rb = radii[i];
+    inv_mass_[i] = 1.0 / mass_[i];
+    rmax = std::max(rmax, radii[i]);
+  }
+  for (int a = 0; a < dim; ++a)
+    GRANPACK_CHECK(0.5 * box_[a] > 2 * rmax * (1 + 2 * kCellMargin),
+                   "HardSphereMD: box length " << box_[a] << " along axis " << a
+                                               << " must exceed two largest diameters ("
+                                               << 4 * rmax << ")");
+  count_.assign(n, 0);
+  slots_.assign(n, Slot{});
+  out_pos_.resize(n);
+  out_vel_.resize(n);
+  out_radii_.resize(n);
+  build_cells(2 * rmax);
+
+  int pi = -1, pj = -1;
+  const double gap = min_gap_pair(&pi, &pj);
+  GRANPACK_CHECK(gap >= -kOverlapTol, "HardSphereMD: particles "
+                                          << pi << " and " << pj << " overlap by "
+                                          << -gap << " of the sum of their radii");
+  k_track_ = kinetic_energy();
+  sync_output();
+}
+
+template <int dim> double HardSphereMD<dim>::kinetic_energy() const {
+  double k = 0;
+  for (std::size_t i = 0; i < st_.size(); ++i) k += 0.5 * mass_[i] * st_[i].v.squaredNorm();
+  return k;
+}
+
+template <int dim> Vec<dim> HardSphereMD<dim>::momentum() const {
+  Vec<dim> p = Vec<dim>::Zero();
+  for (std::size_t i = 0; i < st_.size(); ++i) p += mass_[i] * st_[i].v;
+  return p;
+}
+
+template <int dim> double HardSphereMD<dim>::solid_fraction() const {
+  double v = 0;
+  for (const State& s : st_) v += ball_volume<dim>(s.rb * g_now_);
+  return v / box_.prod();
+}
+
+template <int dim> double HardSphereMD<dim>::pressure() const {
+  const double vol = box_.prod();
+  const double t_acc = t_now_ - t_press0_;
+  if (!(t_acc > 0)) return 2 * kinetic_energy() / (dim * vol);
+  const double kin = kin_integral_ + k_track_ * (t_now_ - t_kin_);
+  return (2 * kin + virial_) / (dim * vol * t_acc);
+}
+
+template <int dim> void HardSphereMD<dim>::reset_pressure() {
+  t_press0_ = t_now_;
+  virial_ = 0;
+  kin_integral_ = 0;
+  t_kin_ = t_now_;
+  k_track_ = kinetic_energy();
+}
+
+template <int dim> double HardSphereMD<dim>::min_relative_gap() const {
+  return min_gap_pair(nullptr, nullptr);
+}
+
+template <int dim> double HardSphereMD<dim>::min_gap_pair(int* pi, int* pj) const {
+  double worst = kInf;
+  const int n = static_cast<int>(st_.size());
+  for (int i = 0; i < n; ++i) {
+    const State& si = st_[i];
+    const Vec<dim> xi = si.x + (t_now_ - si.t) * si.v;
+    for_stencil(cc_[i], -1, 0, [&](int c) {
+      const std::int32_t* mem = &members_[static_cast<std::size_t>(c) * cap_];
+      for (int m = 0; m < count_in_[c]; ++m) {
+        const int k = mem[m];
+        if (k <= i) continue;
+        const State& sk = st_[k];
+        Vec<dim> dr = sk.x + (t_now_ - sk.t) * sk.v - xi;
+        min_image(dr);
+        const double sig = (si.rb + sk.rb) * g_now_;
+        const double gap = (dr.norm() - sig) / sig;
+        if (gap < worst) {
+          worst = gap;
+          if (pi) *pi = i;
+          if (pj) *pj = k;
+        }
+      }
+    });
+  }
+  return worst;
+}
+
+template <int dim> void HardSphereMD<dim>::sync_output() {
+  for (std::size_t i = 0; i < st_.size(); ++i) {
+    const State& s = st_[i];
+    const Vec<dim> x = s.x + (t_now_ - s.t) * s.v;
+    for (int a = 0; a < dim; ++a) out_pos_[i][a] = wrap(x[a], box_[a]);
+    out_vel_[i] = s.v;
+    out_radii_[i] = s.rb * g_now_;
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Cell list
+
+template <int dim> void HardSphereMD<dim>::min_image(Vec<dim>& d) const {
+  for (int a = 0; a < dim; ++a) {
+    if (d[a] > half_box_[a]) d[a] -= box_[a];
+    else if (d[a] < -half_box_[a]) d[a] += box_[a];
+  }
+}
+
+template <int dim> int HardSphereMD<dim>::flat(const std::array<int, dim>& c) const {
+  int f = 0;
+  for (int a = 0; a < dim; ++a)
+    if (real_[a]) f += stride_[a] * c[a];
+  return f;
+}
+
+template <int dim> void HardSphereMD<dim>::build_cells(double d_allow) {
+  const std::size_t n = st_.size();
+  const double d_cell = d_allow * (1 + kCellMargin);
+  // Side of a real cell: at least the diameter allowance, and at most ~4 cells per grain, so
+  // a dilute gas does not allocate a huge empty grid.
+  const double side =
+      std::max(d_cell, std::pow(box_.prod() / (4.0 * static_cast<double>(n)), 1.0 / dim));
+  bool all_real = true;
+  long total = 1;
+  for (int a = 0; a < dim; ++a) {
+    const double m = std::floor(box_[a] / side);
+    if (m >= 4) {
+      real_[a] = true;
+      ncross_[a] = static_cast<int>(std::min(m, 1e6));
+      cw_[a] = box_[a] / ncross_[a];
+      stride_[a] = static_cast<int>(total);
+      total *= ncross_[a];
+    } else {
+      // All pairs along this axis. A pair's minimum image can only change when the relative
+      // displacement passes half the box; re-predicting every time a grain has moved
+      // (L/2 - d)/2 keeps the image of every stored prediction right (docs/event-driven.md).
+      real_[a] = false;
+      all_real = false;
+      const double room = 0.5 * box_[a] - d_cell;
+      GRANPACK_CHECK(room > 0, "HardSphereMD: box length " << box_[a] << " along axis " << a
+                                                         << " is not larger than two diameters ("
+                                                         << 2 * d_allow << ")");
+      const double slabs = std::ceil(box_[a] / (0.5 * room));
+      GRANPACK_CHECK(slabs < 1e8, "HardSphereMD: box length "
+                                      << box_[a] << " along axis " << a
+                                      << " is too close to two diameters (" << 2 * d_allow
+                                      << ") for the all-pairs fallback");
+      ncross_[a] = static_cast<int>(slabs);
+      cw_[a] = box_[a] / ncross_[a];
+      stride_[a] = 0;
+    }
+  }
+  GRANPACK_CHECK(total < (1L << 30), "HardSphereMD: too many cells (" << total << ")");
+  d_lim_ = d_allow;
+  if (all_real) {
+    d_lim_ = kInf;
+    for (int a = 0; a < dim; ++a) d_lim_ = std::min(d_lim_, cw_[a] / (1 + kCellMargin));
+  }
+  cap_ = 8;
+  count_in_.assign(static_cast<std::size_t>(total), 0);
+  members_.assign(static_cast<std::size_t>(total) * cap_, -1);
+  cell_of_.assign(n, -1);
+  slot_in_cell_.assign(n, -1);
+  cc_.resize(n);
+  cand_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    State& s = st_[i];
+    for (int a = 0; a < dim; ++a) {
+      s.x[a] = wrap(s.x[a], box_[a]);
+      const int c = static_cast<int>(std::floor(s.x[a] / cw_[a]));
+      cc_[i][a] = std::clamp(c, 0, ncross_[a] - 1);
+    }
+    cell_insert(static_cast<int>(i), flat(cc_[i]));
+  }
+}
+
+template <int dim> void HardSphereMD<dim>::cell_insert(int i, int c) {
+  if (count_in_[c] == cap_) grow_cell_capacity();
+  const int m = count_in_[c]++;
+  members_[static_cast<std::size_t>(c) * cap_ + m] = i;
+  cell_of_[i] = c;
+  slot_in_cell_[i] = m;
+}
+
+template <int dim> void HardSphereMD<dim>::cell_remove(int i) {
+  const int c = cell_of_[i];
+  std::int32_t* mem = &members_[static_cast<std::size_t>(c) * cap_];
+  const int last = --count_in_[c];
+  const int moved = mem[last];
+  mem[slot_in_cell_[i]] = moved;
+  slot_in_cell_[moved] = slot_in_cell_[i];
+}
+
+/// Doubles the capacity of every cell (rare: only when a cell overflows).
+template <int dim> void HardSphereMD<dim>::grow_cell_capacity() {
+  const int cap = 2 * cap_;
+  std::vector<std::int32_t> mem(count_in_.size() * static_cast<std::size_t>(cap), -1);
+  for (std::size_t c = 0; c < count_in_.size(); ++c)
+    std::copy_n(&members_[c * cap_], count_in_[c], &mem[c * cap]);
+  members_.swap(mem);
+  cap_ = cap;
+}
+
+/// Calls f(cell) for the cells of the 3^dim block around slab coordinates c (one cell along
+/// the all-pairs axes); along `fixed_axis` (if >= 0) only the layer at `fixed_coord`.
+template <int dim>
+template <class F>
+void HardSphereMD<dim>::for_stencil(const std::array<int, dim>& c, int fixed_axis,
+                                    int fixed_coord, F&& f) const {
+  std::array<std::array<int, 3>, dim> off;
+  std::array<int, dim> cnt;
+  for (int a = 0; a < dim; ++a) {
+    if (!real_[a]) {
+      off[a][0] = 0;
+      cnt[a] = 1;
+    } else if (a == fixed_axis) {
+      off[a][0] = fixed_coord * stride_[a];
+      cnt[a] = 1;
+    } else {
+      const int n = ncross_[a];
+      off[a][0] = (c[a] == 0 ? n - 1 : c[a] - 1) * stride_[a];
+      off[a][1] = c[a] * stride_[a];
+      off[a][2] = (c[a] + 1 == n ? 0 : c[a] + 1) * stride_[a];
+      cnt[a] = 3;
+    }
+  }
+  if constexpr (dim == 2) {
+    for (int j = 0; j < cnt[1]; ++j)
+      for (int i = 0; i < cnt[0]; ++i) f(off[0][i] + off[1][j]);
+  } else {
+    for (int k = 0; k < cnt[2]; ++k)
+      for (int j = 0; j < cnt[1]; ++j)
+        for (int i = 0; i < cnt[0]; ++i) f(off[0][i] + off[1][j] + off[2][k]);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Predictions
+
+template <int dim>
+double HardSphereMD<dim>::pair_time(const Vec<dim>& xi, const Vec<dim>& vi, double rbi,
+                                    int k) const {
+  const State& sk = st_[k];
+  const Vec<dim> dv = sk.v - vi;
+  Vec<dim> dr = sk.x + (t_now_ - sk.t) * sk.v - xi;
+  min_image(dr);
+  const double rsum = rbi + sk.rb;
+  const double sig = rsum * g_now_;
+  const double sigd = rsum * rate_;
+  const double rv = dr.dot(dv);
+  const double b = rv - sig * sigd;
+  const double a = dv.squaredNorm() - sigd * sigd;
+  if (b >= 0.0 && a >= 0.0) return kInf;
+  const double r2 = dr.squaredNorm();
+  const double c = r2 - sig * sig;
+  const double touch_rate = c <= 0.0 ? rv - std::sqrt(r2) * sigd : 0.0;
+  return t_now_ + first_contact(a, b, c, touch_rate);
+}
+
+template <int dim> double HardSphereMD<dim>::crossing_time(int i, std::int32_t& cross) const {
+  const State& s = st_[i];
+  double best = kInf;
+  for (int a = 0; a < dim; ++a) {
+    const double v = s.v[a];
+    double dt;
+    if (v > 0) {
+      const int up = cc_[i][a] + 1;
+      const double face = up == ncross_[a] ? box_[a] : up * cw_[a];
+      dt = (face - s.x[a]) / v;
+    } else if (v < 0) {
+      dt = (cc_[i][a] * cw_[a] - s.x[a]) / v;
+    } else {
+      continue;
+    }
+    if (dt < 0) dt = 0;
+    if (dt < best) {
+      best = dt;
+      cross = 2 * a + (v > 0 ? 1 : 0);
+    }
+  }
+  return s.t + best;
+}
+
+/// Puts the grains of the stencil cells (see for_stencil) except `skip` into cand_.
+template <int dim>
+int HardSphereMD<dim>::gather(const std::array<int, dim>& c, int fixed_axis, int fixed_coord,
+                              int skip) {
+  int n = 0;
+  std::int32_t* out = cand_.data();
+  for_stencil(c, fixed_axis, fixed_coord, [&](int cell) {
+    const std::int32_t* mem = &members_[static_cast<std::size_t>(cell) * cap_];
+    const int cnt = count_in_[cell];
+    for (int m = 0; m < cnt; ++m) {
+      out[n] = mem[m];
+      n += mem[m] != skip;
+    }
+  });
+  return n;
+}
+
+/// Earliest collision of the grain (xi at t_now_, vi, base radius rbi) with cand_[0..n),
+/// lowering `best` / setting `partner` when one is earlier. This is the hot loop, so the
+/// cheap tests come first: a receding pair (and, with fixed radii, one whose collision
+/// cannot beat the best found so far, t >= c / (-2b)) costs no square root or division.
+/// Plain scalars: Eigen's 2+1 packets of a 3-vector, written one component at a time by the
+/// minimum image, would stall on store forwarding.
+template <int dim>
+template <bool growing>
+void HardSphereMD<dim>::best_collision(const Vec<dim>& xi, const Vec<dim>& vi, double rbi,
+                                       int n, double& best, int& partner) const {
+  const std::int32_t* cand = cand_.data();
+  const double g = g_now_, rate = rate_, t_now = t_now_;
+  double x0[dim], v0[dim], h[dim], l[dim];
+  for (int a = 0; a < dim; ++a) {
+    x0[a] = xi[a];
+    v0[a] = vi[a];
+    h[a] = half_box_[a];
+    l[a] = box_[a];
+  }
+  double t_best = best;
+  int k_best = -1;
+  for (int q = 0; q < n; ++q) {
+    const State& sk = st_[cand[q]];
+    const double dtk = t_now - sk.t;
+    double rv = 0, r2 = 0, v2 = 0;
+    for (int a = 0; a < dim; ++a) {
+      double d = sk.x[a] + dtk * sk.v[a] - x0[a];
+      d = d > h[a] ? d - l[a] : (d < -h[a] ? d + l[a] : d);
+      const double w = sk.v[a] - v0[a];
+      rv += d * w;
+      r2 += d * d;
+      v2 += w * w;
+    }
+    const double rsum = rbi + sk.rb;
+    const double sig = rsum * g;
+    double dt;
+    if constexpr (!growing) {
+      if (rv >= 0.0) continue;
+      const double c = r2 - sig * sig;
+      if (c > -2.0 * rv * (t_best - t_now)) continue;
+      // disc < 0: the pair misses. Else t = c / (-b + sqrt(disc)), which is <= 0, i.e. now,
+      // for a touching or slightly overlapping pair.
+      const double disc = rv * rv - v2 * c;
+      if (disc < 0.0) continue;
+      dt = std::max(c / (std::sqrt(disc) - rv), 0.0);
+    } else {
+      const double sigd = rsum * rate;
+      const double b = rv - sig * sigd;
+      const double a = v2 - sigd * sigd;
+      if (b >= 0.0 && a >= 0.0) continue;
+      const double c = r2 - sig * sig;
+      if (a >= 0.0 && c > -2.0 * b * (t_best - t_now)) continue; // disc <= b^2 here
+      dt = first_contact(a, b, c, c <= 0.0 ? rv - std::sqrt(r2) * sigd : 0.0);
+    }
+    if (t_now + dt < t_best) {
+      t_best = t_now + dt;
+      k_best = cand[q];
+    }
+  }
+  if (k_best >= 0) {
+    best = t_best;
+    partner = k_best;
+  }
+}
+
+template <int dim> void HardSphereMD<dim>::scan_full(int i) {
+  const State& si = st_[i];
+  const Vec<dim> xi = si.x + (t_now_ - si.t) * si.v;
+  const int n = gather(cc_[i], -1, 0, i);
+  double best = kInf;
+  int partner = -1;
+  if (rate_ != 0.0) best_collision<true>(xi, si.v, si.rb, n, best, partner);
+  else best_collision<false>(xi, si.v, si.rb, n, best, partner);
+  Slot& s = slots_[i];
+  s.t_coll = best;
+  s.partner = partner;
+  s.partner_count = partner >= 0 ? count_[partner] : 0;
+}
+
+template <int dim> void HardSphereMD<dim>::scan_slab(int i, int axis, int coord) {
+  const State& si = st_[i];
+  const Vec<dim> xi = si.x + (t_now_ - si.t) * si.v;
+  const int n = gather(cc_[i], axis, coord, i);
+  Slot& s = slots_[i];
+  double best = s.t_coll;
+  int partner = -1;
+  if (rate_ != 0.0) best_collision<true>(xi, si.v, si.rb, n, best, partner);
+  else best_collision<false>(xi, si.v, si.rb, n, best, partner);
+  if (partner >= 0) {
+    s.t_coll = best;
+    s.partner = partner;
+    s.partner_count = count_[partner];
+  }
+}
+
+template <int dim> void HardSphereMD<dim>::predict_all() {
+  const int n = static_cast<int>(st_.size());
+  for (int i = 0; i < n; ++i) {
+    Slot& s = slots_[i];
+    s.t_coll = kInf;
+    s.partner = -1;
+    s.t_cross = crossing_time(i, s.cross);
+  }
+  // Each pair once (k > i), offered to both grains' slots.
+  for (int i = 0; i < n; ++i) {
+    const State& si = st_[i];
+    const Vec<dim> xi = si.x + (t_now_ - si.t) * si.v;
+    Slot& s = slots_[i];
+    for_stencil(cc_[i], -1, 0, [&](int c) {
+      const std::int32_t* mem = &members_[static_cast<std::size_t>(c) * cap_];
+      for (int m = 0; m < count_in_[c]; ++m) {
+        const int k = mem[m];
+        if (k <= i) continue;
+        const double t = pair_time(xi, si.v, si.rb, k);
+        if (t < s.t_coll) {
+          s.t_coll = t;
+          s.partner = k;
+          s.partner_count = count_[k];
+        }
+        Slot& sk = slots_[k];
+        if (t < sk.t_coll) {
+          sk.t_coll = t;
+          sk.partner = i;
+          sk.partner_count = count_[i];
+        }
+      }
+    });
+  }
+  heap_build();
+  calendar_ok_ = true;
+}
+
+// ---------------------------------------------------------------------------------------
+// Calendar: binary min-heap of one event per grain, keyed by time, with positions where_.
+
+template <int dim> void HardSphereMD<dim>::heap_build() {
+  const std::size_t n = st_.size();
+  heap_.resize(n);
+  where_.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    heap_[p] = HeapNode{key(static_cast<int>(p)), static_cast<std::int32_t>(p)};
+    where_[p] = static_cast<std::int32_t>(p);
+  }
+  for (std::size_t p = n / 2; p-- > 0;) sift_down(p);
+}
+
+template <int dim> void HardSphereMD<dim>::sift_up(std::size_t p) {
+  const HeapNode node = heap_[p];
+  while (p > 0) {
+    const std::size_t parent = (p - 1) / 2;
+    if (!(node.t < heap_[parent].t)) break;
+    heap_[p] = heap_[parent];
+    where_[heap_[p].id] = static_cast<std::int32_t>(p);
+    p = parent;
+  }
+  heap_[p] = node;
+  where_[node.id] = static_cast<std::int32_t>(p);
+}
+
+template <int dim> void HardSphereMD<dim>::sift_down(std::size_t p) {
+  const HeapNode node = heap_[p];
+  const std::size_t n = heap_.size();
+  for (;;) {
+    std::size_t m = 2 * p + 1;
+    if (m >= n) break;
+    if (m + 1 < n && heap_[m + 1].t < heap_[m].t) ++m;
+    if (!(heap_[m].t < node.t)) break;
+    heap_[p] = heap_[m];
+    where_[heap_[p].id] = static_cast<std::int32_t>(p);
+    p = m;
+  }
+  heap_[p] = node;
+  where_[node.id] = static_cast<std::int32_t>(p);
+}
+
+template <int dim> void HardSphereMD<dim>::heap_update(int i) {
+  const std::size_t p = static_cast<std::size_t>(where_[i]);
+  const double t = key(i);
+  const double old = heap_[p].t;
+  heap_[p].t = t;
+  if (t < old) sift_up(p);
+  else sift_down(p);
+}
+
+// ---------------------------------------------------------------------------------------
+// Events
+
+template <int dim> void HardSphereMD<dim>::move_to_now(int i) {
+  State& s = st_[i];
+  s.x += (t_now_ - s.t) * s.v;
+  s.t = t_now_;
+}
+
+template <int dim> void HardSphereMD<dim>::move_all_to_now() {
+  for (int i = 0; i < static_cast<int>(st_.size()); ++i) move_to_now(i);
+}
+
+template <int dim> void HardSphereMD<dim>::process_crossing(int i) {
+  move_to_now(i);
+  Slot& s = slots_[i];
+  const int a = s.cross >> 1;
+  const bool up = (s.cross & 1) != 0;
+  State& st = st_[i];
+  std::array<int, dim>& c = cc_[i];
+  if (up) {
+    if (++c[a] == ncross_[a]) {
+      c[a] = 0;
+      st.x[a] -= box_[a];
+    }
+  } else if (--c[a] < 0) {
+    c[a] = ncross_[a] - 1;
+    st.x[a] += box_[a];
+  }
+  if (real_[a]) {
+    // New neighbours: the layer of cells beyond the new cell; the old prediction stays (if
+    // its partner has collided since, it is stale and will be re-predicted when popped).
+    cell_remove(i);
+    cell_insert(i, flat(c));
+    const int n = ncross_[a];
+    const int layer = up ? (c[a] + 1 == n ? 0 : c[a] + 1) : (c[a] == 0 ? n - 1 : c[a] - 1);
+    scan_slab(i, a, layer);
+  } else {
+    scan_full(i);
+  }
+  s.t_cross = crossing_time(i, s.cross);
+  heap_update(i);
+}
+
+template <int dim> void HardSphereMD<dim>::process_collision(int i, int j) {
+  move_to_now(i);
+  move_to_now(j);
+  State& si = st_[i];
+  State& sj = st_[j];
+  Vec<dim> dr = sj.x - si.x;
+  min_image(dr);
+  const double dist = dr.norm();
+  const Vec<dim> nrm = dr / dist;
+  const double vn = (sj.v - si.v).dot(nrm);
+  const double sigd = (si.rb + sj.rb) * rate_;
+  // Reflect the normal velocity relative to the growing contact: vn' - sigd = -(vn - sigd).
+  double dvn = 2 * (sigd - vn);
+  if (!(dvn > 0)) dvn = 0; // grazing within round-off: nothing to transfer
+  const double mi = mass_[i], mj = mass_[j];
+  const double impulse = dvn / (inv_mass_[i] + inv_mass_[j]);
+  const double k_before = 0.5 * (mi * si.v.squaredNorm() + mj * sj.v.squaredNorm());
+  si.v -= (impulse * inv_mass_[i]) * nrm;
+  sj.v += (impulse * inv_mass_[j]) * nrm;
+  const double k_after = 0.5 * (mi * si.v.squaredNorm() + mj * sj.v.squaredNorm());
+  accumulate_kinetic();
+  k_track_ += k_after - k_before;
+  virial_ += dist * impulse;
+  ++count_[i];
+  ++count_[j];
+  ++n_collisions_;
+  scan_full(i);
+  scan_full(j);
+  slots_[i].t_cross = crossing_time(i, slots_[i].cross);
+  slots_[j].t_cross = crossing_time(j, slots_[j].cross);
+  heap_update(i);
+  heap_update(j);
+}
+
+/// Processes events in time order up to t_stop (inclusive) or until max_collisions
+/// collisions; returns the number of collisions. The clock is left at the last event.
+template <int dim> std::int64_t HardSphereMD<dim>::advance(double t_stop, std::int64_t max_collisions) {
+  std::int64_t done = 0;
+  while (done < max_collisions) {
+    const HeapNode top = heap_[0];
+    if (!(top.t <= t_stop) || top.t == kInf) break;
+    set_time(top.t);
+    const int i = top.id;
+    const Slot& s = slots_[i];
+    if (s.t_cross <= s.t_coll) {
+      process_crossing(i);
+    } else if (count_[s.partner] != s.partner_count) {
+      scan_full(i); // the partner changed course since the prediction
+      heap_update(i);
+    } else {
+      process_collision(i, s.partner);
+      ++done;
+    }
+  }
+  return done;
+}
+
+template <int dim> void HardSphereMD<dim>::ensure_calendar() {
+  if (!calendar_ok_) predict_all();
+}
+
+// ---------------------------------------------------------------------------------------
+// Runs
+
+template <int dim> void HardSphereMD<dim>::run_collisions(std::int64_t n) {
+  GRANPACK_CHECK(n >= 0, "HardSphereMD::run_collisions: negative count " << n);
+  ensure_calendar();
+  const std::int64_t done = advance(kInf, n);
+  sync_output();
+  GRANPACK_CHECK(done == n, "HardSphereMD::run_collisions: only "
+                                << done << " of " << n
+                                << " collisions: no further collision is predicted");
+}
+
+template <int dim> void HardSphereMD<dim>::run_for(double duration) {
+  GRANPACK_CHECK(std::isfinite(duration) && duration >= 0,
+                 "HardSphereMD::run_for: duration " << duration);
+  ensure_calendar();
+  const double t_stop = t_now_ + duration;
+  advance(t_stop, std::numeric_limits<std::int64_t>::max());
+  set_time(t_stop);
+  sync_output();
+}
+
+template <int dim>
+void HardSphereMD<dim>::grow(double phi_target, double rate, double rescale_every,
+                             std::function<void(const HardSphereMD&)> progress) {
+  GRANPACK_CHECK(std::isfinite(rate) && rate > 0, "HardSphereMD::grow: rate " << rate);
+  GRANPACK_CHECK(std::isfinite(rescale_every) && rescale_every > 0,
+                 "HardSphereMD::grow: rescale_every " << rescale_every);
+  const double phi0 = solid_fraction();
+  GRANPACK_CHECK(std::isfinite(phi_target) && phi_target >= phi0,
+                 "HardSphereMD::grow: target solid fraction " << phi_target
+                                                              << " is below the current "
+                                                              << phi0);
+  if (phi_target == phi0) return;
+  const double k0 = kinetic_energy();
+  GRANPACK_CHECK(k0 > 0, "HardSphereMD::grow: the grains are at rest (kinetic energy 0)");
+  const double g_end = std::pow(phi_target / phi0, 1.0 / dim);
+  double rb_max = 0;
+  for (const State& s : st_) rb_max = std::max(rb_max, s.rb);
+  const double d_final = 2 * rb_max * g_end;
+  for (int a = 0; a < dim; ++a)
+    GRANPACK_CHECK(0.5 * box_[a] > d_final * (1 + 2 * kCellMargin),
+                   "HardSphereMD::grow: at solid fraction "
+                       << phi_target << " the largest diameter " << d_final
+                       << " would not fit twice in the box length " << box_[a]);
+
+  double mass = 0, rb_mean = 0;
+  for (std::size_t i = 0; i < st_.size(); ++i) {
+    mass += mass_[i];
+    rb_mean += st_[i].rb;
+  }
+  rb_mean /= static_cast<double>(st_.size());
+  const double v_rms = std::sqrt(2 * k0 / mass);
+
+  // Growth origin: radii r = rb (1 + rate (t - t0)).
+  t0_ = t_now_;
+  rate_ = rate;
+  g_now_ = 1.0;
+  const double t_end = t0_ + (g_end - 1.0) / rate;
+  const auto n = static_cast<std::int64_t>(st_.size());
+  const std::int64_t rescale_n =
+      std::max<std::int64_t>(1, std::llround(rescale_every * static_cast<double>(n)));
+  const std::int64_t progress_n = progress ? n : std::numeric_limits<std::int64_t>::max();
+  std::int64_t since_rescale = 0, since_progress = 0, since_window = 0;
+  double t_window = t_now_;
+  int stalled = 0;
+
+  // Back to fixed radii rb g at the current time.
+  auto freeze = [&](double g) {
+    move_all_to_now();
+    for (State& s : st_) s.rb *= g;
+    rate_ = 0;
+    t0_ = t_now_;
+    g_now_ = 1.0;
+    calendar_ok_ = false;
+    accumulate_kinetic();
+    sync_output();
+  };
+  auto rebuild = [&] {
+    move_all_to_now();
+    build_cells(std::min(d_final, 2 * rb_max * g_now_ * (1 + kGrowthHeadroom)));
+    predict_all();
+  };
+  rebuild();
+  for (;;) {
+    // The grid holds while the largest diameter 2 rb_max g(t) <= d_lim_.
+    const double t_lim = d_lim_ == kInf ? kInf : t0_ + (d_lim_ / (2 * rb_max) - 1.0) / rate;
+    const double t_stop = std::min(t_lim, t_end);
+    const std::int64_t batch = std::min(
+        {rescale_n - since_rescale, progress_n - since_progress, n - since_window});
+    const std::int64_t done = advance(t_stop, batch);
+    since_rescale += done;
+    since_progress += done;
+    since_window += done;
+    if (since_rescale >= rescale_n) {
+      move_all_to_now();
+      const double k = kinetic_energy();
+      if (k > 0) {
+        const double f = std::sqrt(k0 / k);
+        for (State& s : st_) s.v *= f;
+      }
+      accumulate_kinetic();
+      k_track_ = kinetic_energy();
+      predict_all();
+      since_rescale = 0;
+    }
+    if (since_progress >= progress_n) {
+      sync_output();
+      progress(*this);
+      since_progress = 0;
+    }
+    if (since_window >= n) {
+      const bool stuck = v_rms * (t_now_ - t_window) < kStallPath * 2 * rb_mean * g_now_;
+      stalled = stuck ? stalled + 1 : 0;
+      since_window = 0;
+      t_window = t_now_;
+      if (stalled >= kStallWindows) {
+        freeze(g_now_);
+        std::ostringstream os;
+        os << "HardSphereMD::grow: jammed at solid fraction " << solid_fraction()
+           << " below the target " << phi_target
+           << " (the time stopped advancing; a slower growth rate packs denser)";
+        throw Error(os.str());
+      }
+    }
+    if (done < batch) { // reached t_stop
+      set_time(t_stop);
+      if (t_stop >= t_end) break;
+      rebuild();
+    }
+  }
+  // Stop exactly at the target: freeze the radii at rb g_end.
+  freeze(g_end);
+}
+
+template class HardSphereMD<2>;
+template class HardSphereMD<3>;
+
+} // namespace granpack

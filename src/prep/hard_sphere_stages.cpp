@@ -1,0 +1,218 @@
+// `ed_gas` and `ls_compress`: the event-driven hard-sphere stages ([AR] sec. III, IV B; the
+// A' samples). The event-driven engine (dynamics/hard_sphere_md) is serial: these stages
+// gather the grains on rank 0, run there, and hand the result back to the distributed
+// engine through migrate(). Collisions are instantaneous and there is no time step, so the
+// cost is one event calendar; for n = 4000 the 50 collisions per grain of [AR] take about a
+// second. Other ranks wait meanwhile (docs/event-driven.md).
+//
+// The hard-sphere time unit is arbitrary: velocities are drawn from a Maxwell distribution
+// and scaled so that the rms speed is one diameter a per unit time. Grains leave these stages
+// at rest (the following compress stage starts from zero velocities, as in [AR]) and without
+// contacts.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "granpack/comm/collective_error.h"
+#include "granpack/comm/gather.h"
+#include "granpack/comm/migration.h"
+#include "granpack/core/error.h"
+#include "granpack/dynamics/hard_sphere_md.h"
+#include "granpack/prep/stages.h"
+
+namespace granpack {
+
+namespace {
+
+/// Maxwell velocities at a common temperature, zero total momentum, rms speed a.
+template <int dim>
+std::vector<Vec<dim>> maxwell_velocities(const std::vector<Particle<dim>>& g, double a,
+                                         std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<Vec<dim>> v(g.size());
+  Vec<dim> momentum = Vec<dim>::Zero();
+  double mass = 0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    for (int k = 0; k < dim; ++k) v[i][k] = normal(rng) / std::sqrt(g[i].mass);
+    momentum += g[i].mass * v[i];
+    mass += g[i].mass;
+  }
+  double m2 = 0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    v[i] -= momentum / mass;
+    m2 += g[i].mass * v[i].squaredNorm();
+  }
+  const double scale = a / std::sqrt(m2 / mass);
+  for (auto& x : v) x *= scale;
+  return v;
+}
+
+/// The gathered sample as the hard-sphere engine wants it (rank 0 only).
+template <int dim>
+HardSphereMD<dim> make_gas(const RunContext<dim>& ctx, const std::vector<Particle<dim>>& g,
+                           std::uint64_t seed) {
+  std::vector<Vec<dim>> x(g.size());
+  std::vector<double> r(g.size()), m(g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    x[i] = ctx.system.cell.to_real(g[i].position);
+    r[i] = g[i].radius;
+    m[i] = g[i].mass;
+  }
+  try {
+    return HardSphereMD<dim>(ctx.system.cell.length, std::move(x), std::move(r), std::move(m),
+                             maxwell_velocities(g, ctx.deck->sample.diameter, seed));
+  } catch (const Error& e) {
+    std::ostringstream os;
+    os << "stage " << ctx.stage_index << " (" << ctx.stage_name
+       << "): the grains overlap, so they cannot start as hard spheres (" << e.what()
+       << "); an `expand` stage before it separates the grains of a compressed packing";
+    throw Error(os.str());
+  }
+}
+
+/// Puts the grains back (positions from the gas, at rest, no contacts) and lets migrate()
+/// send each to its owner. On ranks other than 0 `g` is empty.
+template <int dim>
+void scatter_back(RunContext<dim>& ctx, std::vector<Particle<dim>>& g,
+                  const std::vector<Vec<dim>>& real_positions) {
+  auto& p = ctx.system.particles;
+  p.clear_ghosts();
+  std::vector<std::size_t> all(p.n_owned());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  p.remove_owned(all);
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    g[i].position = ctx.system.cell.to_scaled(real_positions[i]);
+    g[i].velocity.setZero();
+    g[i].angular_velocity.setZero();
+    p.add_owned(g[i]);
+  }
+  ctx.system.contacts.clear();
+  migrate(ctx.system, *ctx.decomposition);
+}
+
+template <int dim> void require_sample(const RunContext<dim>& ctx) {
+  GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index << " (" << ctx.stage_name
+                                             << "): there is no sample yet (a lattice or random "
+                                                "stage must come first)");
+}
+
+}  // namespace
+
+template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage& e) {
+  require_sample(ctx);
+  int rank = 0;
+  MPI_Comm_rank(ctx.world, &rank);
+  auto g = gather_particles(ctx.system.particles, ctx.world);
+  double stats[3] = {0, 0, 0};  // collisions, hard-sphere time, reduced pressure Z
+  std::vector<Vec<dim>> x;
+  collectively(ctx.world, [&] {
+    if (rank != 0) return;
+    HardSphereMD<dim> gas = make_gas(ctx, g, e.seed);
+    const auto n = static_cast<double>(g.size());
+    gas.reset_pressure();
+    gas.run_collisions(static_cast<std::int64_t>(std::llround(e.collisions_per_grain * n)));
+    GRANPACK_CHECK(gas.min_relative_gap() > -1e-9, "the hard-sphere gas developed an overlap");
+    stats[0] = static_cast<double>(gas.collisions());
+    stats[1] = gas.time();
+    // Compressibility factor Z = P V / (N k T) with k T = 2 K / (dim N).
+    const double kT = 2.0 * gas.kinetic_energy() / (dim * n);
+    stats[2] = gas.pressure() * ctx.system.cell.volume() / (n * kT);
+    x = gas.positions();
+  });
+  MPI_Bcast(stats, 3, MPI_DOUBLE, 0, ctx.world);
+  scatter_back(ctx, g, x);
+  const double n = static_cast<double>(ctx.deck->sample.n);
+  std::ostringstream os;
+  os << "  " << stats[0] << " collisions (" << stats[0] / n << " per grain) in " << stats[1]
+     << " a/v_rms at phi " << ctx.solid_fraction() << ", compressibility factor PV/NkT "
+     << stats[2];
+  ctx.log->info(os.str());
+  StageReport r;
+  r.values = {{"collisions_per_grain", stats[0] / n},
+              {"hard_sphere_time", stats[1]},
+              {"compressibility_factor", stats[2]}};
+  return r;
+}
+
+template <int dim> StageReport run_ls_compress(RunContext<dim>& ctx, const LsCompressStage& l) {
+  require_sample(ctx);
+  int rank = 0;
+  MPI_Comm_rank(ctx.world, &rank);
+  auto g = gather_particles(ctx.system.particles, ctx.world);
+  // Collisions per grain in each interval [start, report_phi[0]], ..., [report_phi.back(), phi];
+  // then the growth factor of the radii.
+  const std::size_t intervals = l.report_phi.size() + 1;
+  std::vector<double> stats(intervals + 1, 0.0);
+  std::vector<Vec<dim>> x;
+  const double phi0 = ctx.solid_fraction();
+  GRANPACK_CHECK(l.phi > phi0, "stage " << ctx.stage_index << " (" << ctx.stage_name
+                                        << "): target phi " << l.phi
+                                        << " is not above the current solid fraction " << phi0);
+  const auto t0 = std::chrono::steady_clock::now();
+  collectively(ctx.world, [&] {
+    if (rank != 0) return;
+    HardSphereMD<dim> gas = make_gas(ctx, g, l.seed);
+    const auto n = static_cast<double>(g.size());
+    const double r0 = gas.radii().front();
+    std::vector<double> targets;
+    for (double p : l.report_phi)
+      if (p > phi0) targets.push_back(p);
+    targets.push_back(l.phi);
+    std::size_t k = intervals - targets.size();  // intervals already passed count zero
+    // d(diameter)/dt = growth_rate v_rms for the largest diameter a, and v_rms is one a per
+    // time unit: the relative growth rate of every radius is growth_rate.
+    const double rate = l.growth_rate;
+    auto last_log = std::chrono::steady_clock::now();
+    auto progress = [&](const HardSphereMD<dim>& s) {
+      const auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(now - last_log).count() < 10) return;
+      last_log = now;
+      std::ostringstream os;
+      os << "  LS: phi " << s.solid_fraction() << ", " << double(s.collisions()) / n
+         << " collisions per grain";
+      ctx.log->progress(os.str());
+    };
+    for (double target : targets) {
+      const auto before = gas.collisions();
+      gas.grow(target, rate, l.rescale_every, progress);
+      stats[k++] = double(gas.collisions() - before) / n;
+    }
+    GRANPACK_CHECK(gas.min_relative_gap() > -1e-9, "the hard-sphere growth developed an overlap");
+    stats[intervals] = gas.radii().front() / r0;
+    x = gas.positions();
+  });
+  MPI_Bcast(stats.data(), static_cast<int>(stats.size()), MPI_DOUBLE, 0, ctx.world);
+  // The grains keep their diameter: the cell shrinks by the growth factor instead.
+  const double growth = stats[intervals];
+  for (auto& xi : x) xi /= growth;
+  ctx.system.cell.length /= growth;
+  scatter_back(ctx, g, x);
+
+  StageReport r;
+  std::ostringstream os;
+  os << "  LS growth to phi " << ctx.solid_fraction() << " ("
+     << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()
+     << " s); collisions per grain:";
+  std::vector<double> bounds = {phi0};
+  for (double p : l.report_phi) bounds.push_back(p);
+  bounds.push_back(l.phi);
+  for (std::size_t k = 0; k < intervals; ++k) {
+    std::ostringstream key;
+    key.precision(3);
+    key << "collisions_per_grain_" << std::fixed << bounds[k] << "_" << bounds[k + 1];
+    r.values.emplace_back(key.str(), stats[k]);
+    os << " [" << bounds[k] << ", " << bounds[k + 1] << "] " << stats[k];
+  }
+  ctx.log->info(os.str());
+  return r;
+}
+
+template StageReport run_ed_gas<2>(RunContext<2>&, const EdGasStage&);
+template StageReport run_ed_gas<3>(RunContext<3>&, const EdGasStage&);
+template StageReport run_ls_compress<2>(RunContext<2>&, const LsCompressStage&);
+template StageReport run_ls_compress<3>(RunContext<3>&, const LsCompressStage&);
+
+}  // namespace granpack

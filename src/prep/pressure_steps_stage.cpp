@@ -1,0 +1,55 @@
+// `pressure_steps` stage: quasistatic compression (or decompression, factor < 1) by equal
+// pressure ratios, P_k = P_0 factor^k (k = 1..count), P_0 the pressure of the previous
+// compress stage, each level equilibrated to the [AR] criteria before the next ([AR] table
+// III "QS" rows; paper II's sqrt(10) steps). Each level is one compress run with the stage's
+// controls and stress ratios of the previous compress; it is recorded as an entry of
+// `levels` in report.json and, if `write`, as the file <name>_<k>.h5.
+#include <cmath>
+#include <sstream>
+
+#include "granpack/prep/stages.h"
+
+namespace granpack {
+
+template <int dim> StageReport run_pressure_steps(RunContext<dim>& ctx, const PressureStepsStage& ps) {
+  const std::vector<double> stress0 = ctx.stress;
+  const std::vector<bool> fixed0 = ctx.fixed;
+  const double p0 = ctx.pressure;
+  StageReport r;
+  for (std::int64_t k = 1; k <= ps.count; ++k) {
+    const double scale = std::pow(ps.factor, static_cast<double>(k));
+    CompressStage c = ps.compress;
+    c.fixed = fixed0;
+    c.stress.clear();
+    for (double s : stress0) c.stress.push_back(s * scale);
+    c.pressure = p0 * scale;
+    std::ostringstream os;
+    os << "  level " << k << "/" << ps.count << ": P = " << c.pressure << " Pa";
+    ctx.log->info(os.str());
+    StageReport level = run_compress(ctx, c);
+    level.name = ctx.stage_name + "_" + std::to_string(k);
+    level.kind = "compress";
+    if (ps.write) {
+      const std::string file = level.name + ".h5";
+      write_state(ctx, ctx.output_dir / file);
+      level.values.emplace_back("pressure_target", c.pressure);
+      ctx.log->info("  wrote " + (ctx.output_dir / file).string());
+    }
+    r.steps += level.steps;
+    r.time += level.time;
+    r.levels.push_back(level);
+  }
+  // The stage's own entry describes its final level.
+  const StageReport& last = r.levels.back();
+  r.equilibrated = true;
+  for (const auto& l : r.levels) r.equilibrated = *r.equilibrated && l.equilibrated.value_or(false);
+  r.phi = last.phi;
+  r.inertia_max = last.inertia_max;
+  r.copy_state_metrics(last);
+  return r;
+}
+
+template StageReport run_pressure_steps<2>(RunContext<2>&, const PressureStepsStage&);
+template StageReport run_pressure_steps<3>(RunContext<3>&, const PressureStepsStage&);
+
+}  // namespace granpack

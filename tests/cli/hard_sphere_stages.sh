@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# The serial event-driven stages hand the same grains back whatever the rank count: an FCC
+# lattice melted by ed_gas, then grown by ls_compress, written by 1 and by 2 ranks, gives
+# bit-identical positions (velocities are drawn in id order on rank 0). Also: the LS stage
+# keeps the grain diameter and reaches the target solid fraction by shrinking the cell; the
+# grains leave at rest without overlaps (smallest centre distance >= diameter).
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+cat > "$scratch/ed.toml" <<'TOML'
+[sample]
+dimension = 3
+n = 256
+diameter = 1.0e-3
+seed = 5
+[material]
+density = 2500.0
+young_modulus = 70.0e9
+poisson_ratio = 0.3
+friction = 0.3
+damping = 0.98
+[[stage]]
+kind = "lattice"
+phi = 0.45
+[[stage]]
+kind = "ed_gas"
+collisions_per_grain = 20
+[[stage]]
+kind = "write"
+file = "gas.h5"
+[[stage]]
+kind = "ls_compress"
+phi = 0.55
+report_phi = [0.5]
+TOML
+for np in 1 2; do
+  if ! mpiexec -n $np "$GRANPACK_EXE" run "$scratch/ed.toml" -o "$scratch/np$np" --quiet > "$scratch/np$np.txt" 2>&1; then
+    echo "FAIL: run on $np rank(s):"; tail -20 "$scratch/np$np.txt"; exit 1
+  fi
+done
+/usr/bin/python3 - "$scratch" <<'PY'
+import json, sys
+import h5py, numpy as np
+d = sys.argv[1]
+fails = []
+def load(path):
+    with h5py.File(path, "r") as f:
+        order = np.argsort(f["particles/id"][:])
+        return (f["particles/scaled_position"][:][order], f["particles/velocity"][:][order],
+                f["particles/radius"][:][order], f["cell/length"][:], int(f.attrs["n_contacts"]))
+for name in ["gas.h5", "final.h5"]:
+    s1, v1, r1, L1, c1 = load(f"{d}/np1/{name}")
+    s2, v2, r2, L2, c2 = load(f"{d}/np2/{name}")
+    if not (np.array_equal(s1, s2) and np.array_equal(L1, L2)):
+        fails.append(f"{name}: positions differ between 1 and 2 ranks (max {np.abs(s1 - s2).max()})")
+    if np.any(v1 != 0) or c1 != 0:
+        fails.append(f"{name}: grains not at rest or contacts left after a hard-sphere stage")
+    # No overlap: smallest minimum-image distance between centres >= sum of radii (1e-9).
+    x = s1 * L1
+    dx = x[:, None, :] - x[None, :, :]
+    dx -= L1 * np.round(dx / L1)
+    dist = np.sqrt((dx ** 2).sum(-1)) + np.eye(len(x)) * 1e9
+    gap = (dist - (r1[:, None] + r1[None, :])).min() / (2 * r1.max())
+    if gap < -1e-9:
+        fails.append(f"{name}: overlap {gap}")
+r = json.load(open(f"{d}/np2/report.json"))
+ls = r["stages"][3]
+if abs(ls["phi"] - 0.55) > 1e-9:
+    fails.append(f"ls_compress ended at phi {ls['phi']}, not 0.55")
+with h5py.File(f"{d}/np2/final.h5", "r") as f:
+    if not np.allclose(f["particles/radius"][:], 0.5e-3, rtol=0, atol=1e-18):
+        fails.append("ls_compress changed the grain radii")
+if set(ls["values"]) != {"collisions_per_grain_0.450_0.500", "collisions_per_grain_0.500_0.550"}:
+    fails.append(f"ls values: {ls['values']}")
+melt = r["stages"][1]["values"]
+if abs(melt["collisions_per_grain"] - 20) > 1e-9:
+    fails.append(f"ed_gas collisions per grain {melt['collisions_per_grain']}")
+for f in fails: print("FAIL:", f)
+print(f"hard-sphere stages: {'ok' if not fails else str(len(fails)) + ' failures'}")
+sys.exit(1 if fails else 0)
+PY

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The CI variants of the [AR] packing states (jobs/decks/ci/{AC,B,D}_small.toml: n = 500,
+# kappa = 1000) run end to end on 2 ranks, and their report.json metrics fall in bands.
+# Bands: mean +- about 4 standard deviations over seeds 1-4 (jobs/tools/ci_bands.sh; table in
+# docs/reproduction.md), plus relations that must hold whatever the seed:
+#  - frictionless A: z* >= 6 (a frictionless backbone is at least isostatic), no 2-coordinated
+#    backbone grain;
+#  - C (A expanded, mixed, compressed with friction) keeps A's density within 0.006 but loses
+#    coordination and gains rattlers ([AR] sec. IV B);
+#  - D (direct compression with mu = 0.3) is looser than A by more than 0.03;
+#  - a quasistatic pressure step raises Phi and z* and narrows the force distribution (Z(2)
+#    decreases, [AR] table III "QS" rows);
+#  - after fix_rattlers every rattler rests on at least 3 contacts;
+#  - the LS stage reports its collisions per grain.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+status=0
+for deck in AC_small B_small D_small; do
+  if ! mpiexec -n 2 "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/$deck.toml" \
+       -o "$scratch/$deck" --quiet > "$scratch/$deck.txt" 2>&1; then
+    echo "FAIL: $deck did not run:"; tail -20 "$scratch/$deck.txt"; status=1
+  fi
+done
+[ $status -eq 0 ] || exit 1
+/usr/bin/python3 - "$scratch" <<'PY'
+import json, sys
+d = sys.argv[1]
+def stages(deck):
+    return {s["name"]: s for s in json.load(open(f"{d}/{deck}/report.json"))["stages"]}
+ac, b, dd = stages("AC_small"), stages("B_small"), stages("D_small")
+A, C, B, D, Q, F = ac["A"], ac["C"], b["B"], dd["D"], dd["qs"], dd["fixed"]
+fails, checks = [], 0
+def check(what, ok):
+    global checks
+    checks += 1
+    if not ok: fails.append(what)
+def band(name, s, key, lo, hi):
+    v = s[key]
+    check(f"{name} {key} = {v} outside [{lo}, {hi}]", v is not None and lo <= v <= hi)
+for name, s in [("A", A), ("C", C), ("B", B), ("D", D), ("qs", Q)]:
+    check(f"{name} not equilibrated", s["equilibrated"] is True)
+band("A", A, "phi", 0.635, 0.648); band("A", A, "z_star", 6.38, 6.62); band("A", A, "x0", 0.0, 0.03)
+check(f"A z* = {A['z_star']} < 6", A["z_star"] >= 6.0)
+check(f"A x2 = {A['x2']} != 0 without friction", A["x2"] == 0)
+band("C", C, "phi", 0.632, 0.647); band("C", C, "z_star", 4.95, 5.60); band("C", C, "x0", 0.005, 0.08)
+check("C density not within 0.006 of A", abs(C["phi"] - A["phi"]) < 0.006)
+check("C z* not below A z* - 0.8", C["z_star"] < A["z_star"] - 0.8)
+check("C x0 not above A x0", C["x0"] > A["x0"])
+band("B", B, "phi", 0.636, 0.646); band("B", B, "z_star", 6.0, 6.4)
+ls = b["ls"]["values"]
+check(f"LS collisions per grain missing: {ls}", len(ls) == 3 and all(v > 0 for v in ls.values()))
+band("D", D, "phi", 0.590, 0.606); band("D", D, "z_star", 4.75, 5.25); band("D", D, "x0", 0.01, 0.11)
+check("D not looser than A by 0.03", D["phi"] < A["phi"] - 0.03)
+check("QS step: phi did not increase", Q["phi"] > D["phi"])
+check("QS step: z* did not increase", Q["z_star"] > D["z_star"])
+check("QS step: Z(2) did not decrease", Q["z2"] < D["z2"])
+check("QS level not recorded", len(Q.get("levels", [])) == 1 and abs(Q["levels"][0]["pressure"] / 31622.8 - 1) < 1e-3)
+v = F["values"]
+check(f"fix_rattlers did not settle: {F}", F["equilibrated"] is True)
+check(f"fix_rattlers: {v['rattlers_resting_on_dim_contacts']} of {v['rattlers']} rattlers rest on >= 3 contacts",
+      v["rattlers"] > 0 and v["rattlers_resting_on_dim_contacts"] == v["rattlers"])
+check("fix_rattlers: grains with 0 or 1 contact remain", v["x0_II"] == 0 and v["x1_II"] == 0)
+for f in fails: print("FAIL:", f)
+print(f"states_small: {checks - len(fails)} passed, {len(fails)} failed")
+sys.exit(1 if fails else 0)
+PY
