@@ -43,6 +43,11 @@ int main(int argc, char** argv) {
   auto* analyze_cmd = app.add_subcommand("analyze", "geometric and mechanical analysis of a packing");
   analyze_cmd->add_option("file", file, "configuration file (.h5)")->required();
   analyze_cmd->add_option("--json", json_out, "also write the results as JSON to this file");
+  granpack::PairOptions pair_opts;
+  analyze_cmd->add_option("--gr-max", pair_opts.r_max, "range of g(r) in diameters (default 3)")
+      ->check(CLI::Range(1.5, 100.0));
+  analyze_cmd->add_option("--gr-bin", pair_opts.bin_width, "bin width of g(r) in diameters (default 0.01)")
+      ->check(CLI::Range(1e-4, 1.0));
   auto* stiffness_cmd = app.add_subcommand("stiffness", "rigidity, mechanisms and elastic moduli");
   stiffness_cmd->add_option("file", file, "configuration file (.h5)")->required();
   stiffness_cmd->add_option("--json", json_out, "also write the results as JSON to this file");
@@ -68,6 +73,7 @@ int main(int argc, char** argv) {
     } else if (*analyze_cmd) {
       granpack::AnalyzeOptions a;
       a.file = file;
+      a.pairs = pair_opts;
       if (!json_out.empty()) a.json = json_out;
       granpack::analyze_file(MPI_COMM_WORLD, a);
     } else if (*stiffness_cmd) {

@@ -155,6 +155,8 @@ void read_compress_controls(TableReader& rk, CompressStage& c) {
   c.cell_mass = rk.number_or("cell_mass", 1.0, Range::positive(),
                              "generalised cell mass M / total grain mass");
   c.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
+  c.quench_interval = rk.integer_or("quench_interval", 0, Range::non_negative(),
+                                    "steps between velocity quenches of a static packing (0: never)");
   c.tolerance = read_tolerances(rk);
 }
 

@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "granpack/app/analysis_sections.h"
+
 namespace granpack {
 
 struct AnalyzeOptions {
@@ -15,6 +17,7 @@ struct AnalyzeOptions {
   /// Force-carrying threshold as a fraction of a^2 P (a^(dim-1) P in 2D), P the measured
   /// pressure: the [AR] equilibrium tolerance, below which forces are not resolved.
   double threshold = 1e-4;
+  PairOptions pairs;  ///< g(r) range and bin
 };
 
 /// Returns the JSON text of the results (on every rank); rank 0 prints the table.

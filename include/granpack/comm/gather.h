@@ -10,6 +10,9 @@
 
 namespace granpack {
 
+/// Every rank's `mine`, concatenated in rank order, on `root` (empty elsewhere).
+std::vector<double> gather_values(const std::vector<double>& mine, MPI_Comm comm, int root = 0);
+
 /// The owned grains of every rank, sorted by global id, on `root` (empty elsewhere).
 template <int dim>
 std::vector<Particle<dim>> gather_particles(const ParticleStore<dim>& p, MPI_Comm comm, int root = 0);

@@ -23,6 +23,10 @@ struct EquilibriumMeasure {
   bool satisfies(const EquilibriumTolerances& t) const {
     return force < t.force && stress < t.stress && kinetic < t.kinetic;
   }
+  /// The force and stress criteria hold (the packing is static but may still move).
+  bool static_state(const EquilibriumTolerances& t) const {
+    return force < t.force && stress < t.stress;
+  }
 };
 
 }  // namespace granpack

@@ -62,6 +62,9 @@ struct CompressStage {
   std::optional<double> inertia_max;    ///< cap on I = eps_dot sqrt(m/(aP)), eq. (23)
   double cell_mass = 1.0;               ///< M / (sum of grain masses)
   std::int64_t max_steps = 0;           ///< 0: no limit
+  /// Steps between velocity quenches once the force and stress criteria hold but the kinetic
+  /// one does not (0: never). [AR] sec. III checks stability by zeroing the velocities.
+  std::int64_t quench_interval = 0;
   EquilibriumTolerances tolerance;  ///< [AR] sec. III criteria
 };
 struct SetStage {

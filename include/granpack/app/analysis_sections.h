@@ -1,0 +1,25 @@
+#pragma once
+// The sections of `granpack analyze` (docs/analysis.md), each computing its quantities from a
+// PackingView on every rank (collective on the view's communicator) and returning them as
+// JSON (identical on every rank).
+#include <nlohmann/json.hpp>
+
+#include "granpack/app/packing_view.h"
+
+namespace granpack {
+
+/// Contact network and forces: counts, rattlers, z, z*, x_i under treatments I-III, H/N_f
+/// (eq. 37), P(f), Z(alpha) (eq. 27), strong/weak split (table VI), eq. (22), Delta Phi (eq. 28).
+template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v);
+
+struct PairOptions {
+  double r_max = 3.0;      ///< g(r) range / a
+  double bin_width = 0.01; ///< g(r) bin / a
+};
+/// g(r) and z(h) for all grains (treatment I) and without rattlers (III), fits of eq. (35).
+template <int dim> nlohmann::json analyze_pairs(const PackingView<dim>& v, const PairOptions& o);
+
+/// Bond-orientational order (eq. 31-34, tables II, VII, VIII) for d_c = 1.35 a and 1.40 a.
+nlohmann::json analyze_order(const PackingView<3>& v);
+
+}  // namespace granpack

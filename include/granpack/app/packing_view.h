@@ -1,0 +1,65 @@
+#pragma once
+// A configuration file loaded for analysis: the grains distributed over the ranks with a
+// ghost layer of a chosen width, the contacts with both grains located, and the force-
+// carrying backbone (iterative rattler rule of [AR] sec. III B). The analysis sections of
+// `granpack analyze` (app/analyze_*.cpp) all read from it. Collective on world.
+#include <mpi.h>
+
+#include <filesystem>
+#include <memory>
+
+#include "granpack/comm/decomposition.h"
+#include "granpack/comm/halo.h"
+#include "granpack/core/system.h"
+#include "granpack/io/deck.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/prep/backbone.h"
+
+namespace granpack {
+
+/// One contact of the file, owned by this rank: local indices (i owned, j the nearest image).
+template <int dim> struct ContactView {
+  std::size_t i = 0, j = 0;
+  Vec<dim> branch;           ///< r_j - r_i (real)
+  double normal_force = 0;   ///< N^e
+  Vec<dim> tangential_force; ///< T
+};
+
+template <int dim> struct PackingView {
+  MPI_Comm world = MPI_COMM_WORLD;
+  Deck deck;                 ///< the deck stored in the file
+  double friction = 0;       ///< mu in force at the file's stage
+  double diameter = 0;       ///< a
+  System<dim> system;
+  std::unique_ptr<Decomposition<dim>> decomposition;
+  Halo<dim> halo;
+  double ghost_width = 0;    ///< real width of the ghost layer
+  double phi = 0, pressure = 0;  ///< solid fraction; elastic pressure tr(sigma)/dim
+  Tensor<dim> stress = Tensor<dim>::Zero();
+  double force_threshold = 0;    ///< N above which a contact carries force
+  std::vector<ContactView<dim>> contacts;
+  std::vector<CarryingContact> carrying;  ///< N > threshold
+  Backbone backbone;             ///< rattler flags and counts per local grain (ghosts copied)
+  std::int64_t n = 0;
+
+  const ParticleStore<dim>& particles() const { return system.particles; }
+  bool rattler(std::size_t i) const { return backbone.rattler[i] != 0; }
+};
+
+/// Reads `file` and builds the view with ghosts within `reach` diameters a (at least the
+/// contact range 2 R_max). threshold: force-carrying threshold / (a^(dim-1) P).
+template <int dim>
+PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
+                              const FileMeta& meta, double threshold, double reach);
+
+}  // namespace granpack
+
+namespace granpack {
+
+/// Calls f(i, j, r_ij, |r_ij|) for every owned grain i and every local grain j (owned or
+/// ghost, j not an image of i) closer than `cutoff` (<= the view's ghost width), r_ij = r_j - r_i.
+template <int dim, class F> void for_each_neighbor(const PackingView<dim>& v, double cutoff, F&& f);
+
+}  // namespace granpack
+
+#include "granpack/app/packing_view_neighbors.h"

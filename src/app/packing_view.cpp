@@ -1,0 +1,120 @@
+#include "granpack/app/packing_view.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <unordered_map>
+
+#include "granpack/comm/migration.h"
+#include "granpack/comm/reduce.h"
+#include "granpack/core/error.h"
+
+namespace granpack {
+
+namespace {
+
+/// Friction coefficient in force when the file was written: the deck's, changed by the
+/// `set` stages that ran up to the file's stage.
+double friction_of(const Deck& deck, int stage_index) {
+  double mu = deck.material.friction;
+  for (const auto& st : deck.stages)
+    if (st.index <= stage_index)
+      if (const auto* s = std::get_if<SetStage>(&st.params); s && s->friction) mu = *s->friction;
+  return mu;
+}
+
+}  // namespace
+
+template <int dim>
+PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
+                              const FileMeta& meta, double threshold, double reach) {
+  PackingView<dim> v;
+  v.world = world;
+  Configuration<dim> cfg = read_configuration<dim>(world, file);
+  v.deck = parse_deck(meta.deck_text, file.string() + ":/deck");
+  v.friction = friction_of(v.deck, meta.stage_index);
+  v.diameter = v.deck.sample.diameter;
+
+  auto& sys = v.system;
+  sys.cell = cfg.cell;
+  sys.particles = std::move(cfg.particles);
+  sys.contacts = std::move(cfg.contacts);
+  v.decomposition = std::make_unique<Decomposition<dim>>(world, sys.cell.length);
+  distribute(sys, *v.decomposition);
+  auto& p = sys.particles;
+  double rmax = 0, volume = 0;
+  for (std::size_t i = 0; i < p.n_owned(); ++i) {
+    rmax = std::max(rmax, p.radius[i]);
+    volume += dim == 3 ? 4.0 / 3.0 * std::numbers::pi * std::pow(p.radius[i], 3)
+                       : std::numbers::pi * p.radius[i] * p.radius[i];
+  }
+  rmax = global_max(world, rmax);
+  v.n = global_sum(world, static_cast<std::int64_t>(p.n_owned()));
+  v.phi = global_sum(world, volume) / sys.cell.volume();
+  // Contacts overlap, so both grains lie within 2 R_max (plus round-off) of each other.
+  // The ghost layer cannot be wider than a sub-domain (nearest-neighbour exchange) nor reach
+  // half the cell (one image per pair): the requested reach is clipped to that, but never
+  // below what the contacts and the local analyses need (1.5 a).
+  double limit = 0.5 * sys.cell.length.minCoeff() * (1 - 1e-9);
+  for (int k = 0; k < dim; ++k)
+    limit = std::min(limit, sys.cell.length[k] / v.decomposition->dims()[k] * (1 - 1e-9));
+  const double needed = std::max(1.5 * v.diameter, 2.0 * rmax) * (1 + 1e-9);
+  GRANPACK_CHECK(needed <= limit,
+                 file.string() << ": the analysis needs grains within " << needed / v.diameter
+                               << " a of each sub-domain, more than a sub-domain's width or half "
+                                  "the cell: run on fewer ranks");
+  v.ghost_width = std::clamp(reach * v.diameter, needed, limit);
+  const Vec<dim> width = Vec<dim>::Constant(v.ghost_width).cwiseQuotient(sys.cell.length);
+  v.halo.borders(p, *v.decomposition, width);
+
+  // Local index of each contact's two grains: the first is owned (contacts travel with their
+  // first grain); of the images of the second, the nearest.
+  std::unordered_multimap<GlobalId, std::size_t> where;
+  for (std::size_t i = 0; i < p.size(); ++i) where.emplace(p.id[i], i);
+  std::int64_t lost = 0;
+  for (std::size_t k = 0; k < sys.contacts.size(); ++k) {
+    const auto& key = sys.contacts.key(k);
+    std::size_t i = p.size(), j = p.size();
+    for (auto [it, end] = where.equal_range(key.first); it != end; ++it)
+      if (it->second < p.n_owned()) i = it->second;
+    double best = std::numeric_limits<double>::infinity();
+    if (i < p.size())
+      for (auto [it, end] = where.equal_range(key.second); it != end; ++it) {
+        const double dist = sys.cell.length.cwiseProduct(p.position[it->second] - p.position[i]).norm();
+        if (dist < best) best = dist, j = it->second;
+      }
+    if (i == p.size() || j == p.size()) {
+      ++lost;
+      continue;
+    }
+    const Vec<dim> r = sys.cell.length.cwiseProduct(p.position[j] - p.position[i]);
+    v.contacts.push_back({i, j, r, sys.contacts.state(k).normal_force,
+                          sys.contacts.state(k).tangential_force});
+  }
+  GRANPACK_CHECK(global_sum(world, lost) == 0,
+                 file.string() << ": " << global_sum(world, lost)
+                               << " contacts name grains that are not in contact range");
+
+  // Measured (elastic) stress, eq. (8) without the kinetic part.
+  Tensor<dim> virial = Tensor<dim>::Zero();
+  for (const auto& c : v.contacts)
+    virial += (c.normal_force * c.branch.normalized() + c.tangential_force) * c.branch.transpose();
+  MPI_Allreduce(MPI_IN_PLACE, virial.data(), dim * dim, MPI_DOUBLE, MPI_SUM, world);
+  v.stress = virial / sys.cell.volume();
+  v.pressure = v.stress.trace() / dim;
+  v.force_threshold = threshold * (dim == 3 ? v.diameter * v.diameter : v.diameter) * v.pressure;
+
+  for (const auto& c : v.contacts)
+    if (c.normal_force > v.force_threshold) v.carrying.push_back({c.i, c.j, c.normal_force});
+  const int min_contacts = v.friction > 0 ? 2 : dim + 1;
+  v.backbone = find_backbone(p, v.halo, *v.decomposition, v.carrying, min_contacts);
+  // Backbone coordinations on the ghosts too (the force statistics split by coordination).
+  v.halo.forward_values(v.backbone.counts, *v.decomposition);
+  return v;
+}
+
+template PackingView<2> load_packing<2>(MPI_Comm, const std::filesystem::path&, const FileMeta&, double, double);
+template PackingView<3> load_packing<3>(MPI_Comm, const std::filesystem::path&, const FileMeta&, double, double);
+
+}  // namespace granpack
