@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# jobs/tools/plot_analysis.py (docs/plots.md): on synthetic `granpack analyze --json` files it
+# writes pf.png, gr.png, zh.png and coordination.png (non-empty PNGs) for one file and for two
+# overlaid files with --labels; a file lacking keys is skipped, not fatal; a missing or non-JSON
+# input, or a wrong --labels count, gives a non-zero exit and a message naming the file.
+set -u
+: "${GRANPACK_SOURCE_DIR:?}"
+tool="$GRANPACK_SOURCE_DIR/jobs/tools/plot_analysis.py"
+py=/usr/bin/python3
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+export MPLCONFIGDIR="$scratch/mpl"
+fail=0; pass=0
+check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
+is_png() { [ -s "$1" ] && [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
+
+# Synthetic analyze output: DTS-shaped P(f), a g(r) with a contact peak, z(h) = z0 + A h^beta.
+"$py" - "$scratch" <<'PY'
+import json, math, sys
+d = sys.argv[1]
+def state(z0, A, beta, shift):
+    edges = [0.1 * i for i in range(51)]
+    pdf = [(3.43 * f * f + 1.45 - 1.18 / (1 + 4.71 * f)) * math.exp(-2.25 * f)
+           for f in (e + 0.05 for e in edges[:-1])]
+    pdf[-1] = 0.0                                    # an empty bin (log panel)
+    r = [0.005 + 0.01 * i for i in range(300)]
+    g = [0.0 if x < 0.99 else 30.0 if x < 1.0 else 1.0 + 0.5 * math.exp(-(x - 1.0)) * math.cos(6 * x)
+         for x in r]
+    h = [0.0] + [1e-6 * (0.5 / 1e-6) ** (k / 59) for k in range(60)]
+    zI = [z0 + A * x ** beta for x in h]
+    zIII = [z0 + shift + 0.9 * A * x ** beta for x in h]
+    x_i = {"0": 0.1, "2": 0.03, "3": 0.14, "4": 0.29, "5": 0.25, "6": 0.13, "7": 0.05, "8": 0.01}
+    return {"file": "synthetic.h5", "dimension": 3, "n": 100, "phi": 0.59, "z": 4.07,
+            "z_star": 4.55, "P_f": {"f_edges": edges, "pdf": pdf, "fraction_above": 0.0},
+            "g_r": {"r_over_a": r, "g_I": g, "g_III": [1.1 * v for v in g]},
+            "z_h": {"h_over_a": h, "z_I": zI, "z_III": zIII},
+            "z_h_fit_I": {"z0": z0, "A": A, "beta": beta},
+            "z_h_fit_III": {"z0": z0 + shift, "A": 0.9 * A, "beta": beta},
+            "x_i": x_i, "x_i_all_contacts": x_i,
+            "x_i_without_rattlers": {k: v / 0.9 for k, v in x_i.items() if k != "0"}}
+json.dump(state(4.1, 7.7, 0.40, 0.4), open(f"{d}/D.json", "w"))
+json.dump(state(5.5, 11.6, 0.47, 0.1), open(f"{d}/A.json", "w"))
+json.dump({"file": "old.h5", "dimension": 2, "phi": 0.8, "g_r": None, "z_h_fit_I": None},
+          open(f"{d}/old2d.json", "w"))
+PY
+check "synthetic JSON written" "[ -s '$scratch/D.json' ] && [ -s '$scratch/A.json' ]"
+
+"$py" "$tool" "$scratch/one" "$scratch/D.json" > "$scratch/one.txt" 2>&1
+check "one file: exit 0 ($(tail -3 "$scratch/one.txt"))" "[ $? -eq 0 ]"
+for f in pf gr zh coordination; do
+  check "one file: $f.png is a non-empty PNG" "is_png '$scratch/one/$f.png'"
+  check "one file: $f.png listed" "grep -q '$f.png' '$scratch/one.txt'"
+done
+
+"$py" "$tool" "$scratch/two" "$scratch/D.json" "$scratch/A.json" "$scratch/old2d.json" \
+  --labels D,A,old > "$scratch/two.txt" 2>&1
+check "two files + an old 2D file: exit 0 ($(tail -3 "$scratch/two.txt"))" "[ $? -eq 0 ]"
+for f in pf gr zh coordination; do
+  check "two files: $f.png is a non-empty PNG" "is_png '$scratch/two/$f.png'"
+done
+check "the old file's missing data is reported" "grep -q 'old: no g_r' '$scratch/two.txt'"
+check "no traceback" "! grep -q Traceback '$scratch/one.txt' '$scratch/two.txt'"
+
+"$py" "$tool" "$scratch/none" "$scratch/old2d.json" > "$scratch/none.txt" 2>&1
+check "file with no plottable data: exit 0, nothing written" \
+  "[ $? -eq 0 ] && [ ! -e '$scratch/none/pf.png' ] && ! grep -q Traceback '$scratch/none.txt'"
+
+"$py" "$tool" "$scratch/miss" "$scratch/D.json" "$scratch/does_not_exist.json" > "$scratch/miss.txt" 2>&1
+rc=$?
+check "missing input: non-zero exit ($rc)" "[ $rc -ne 0 ]"
+check "missing input: message names the file ($(cat "$scratch/miss.txt"))" \
+  "grep -q 'does_not_exist.json' '$scratch/miss.txt' && ! grep -q Traceback '$scratch/miss.txt'"
+check "missing input: nothing written" "[ ! -e '$scratch/miss/pf.png' ]"
+
+printf '{"P_f": [1, 2' > "$scratch/broken.json"
+"$py" "$tool" "$scratch/bad" "$scratch/broken.json" > "$scratch/bad.txt" 2>&1
+rc=$?
+check "non-JSON input: non-zero exit with the file's name ($(cat "$scratch/bad.txt"))" \
+  "[ $rc -ne 0 ] && grep -q 'broken.json' '$scratch/bad.txt' && ! grep -q Traceback '$scratch/bad.txt'"
+
+"$py" "$tool" "$scratch/lab" "$scratch/D.json" --labels a,b > "$scratch/lab.txt" 2>&1
+check "--labels count mismatch: non-zero exit" "[ $? -ne 0 ] && grep -q 'labels' '$scratch/lab.txt'"
+
+echo "plot_analysis: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
