@@ -26,6 +26,7 @@ template <int dim> nlohmann::json analyze(MPI_Comm world, const AnalyzeOptions& 
   j["pressure"] = v.pressure;
   j.update(analyze_network(v));
   j.update(analyze_pairs(v, opt.pairs));
+  j["motifs"] = analyze_motifs(v);
   if constexpr (dim == 3) j["order"] = analyze_order(v);
   if constexpr (dim == 3)
     for (const char* k : {"Q4_local_mean", "Q6_local_mean", "Q6_global", "crystalline_fraction"})
@@ -75,6 +76,10 @@ std::string table(const nlohmann::json& j) {
       row((std::string("z(h) fit (35), ") + t + ": z0 A beta").c_str(),
           num(f["z0"]) + ", " + num(f["A"]) + ", " + num(f["beta"]));
   }
+  if (j.contains("motifs"))
+    row("triangles, tetrahedra/grain", num(j["motifs"]["triangles_per_grain"]) + ", " +
+                                           num(j["motifs"]["tetrahedra_per_grain"]) + " (in a tetrahedron: " +
+                                           num(j["motifs"]["fraction_in_tetrahedron"]) + ")");
   if (j.contains("order")) {
     for (const char* dc : {"1.35", "1.40"}) {
       const auto& o = j["order"][dc];

@@ -19,6 +19,9 @@ struct PairOptions {
 /// g(r) and z(h) for all grains (treatment I) and without rattlers (III), fits of eq. (35).
 template <int dim> nlohmann::json analyze_pairs(const PackingView<dim>& v, const PairOptions& o);
 
+/// Triangles and tetrahedra of the backbone contact network per backbone grain ([AR] III D).
+template <int dim> nlohmann::json analyze_motifs(const PackingView<dim>& v);
+
 /// Bond-orientational order (eq. 31-34, tables II, VII, VIII) for d_c = 1.35 a and 1.40 a.
 nlohmann::json analyze_order(const PackingView<3>& v);
 
