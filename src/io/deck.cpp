@@ -250,6 +250,11 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
     if (f.find('/') != std::string::npos || f.size() < 4 || f.substr(f.size() - 3) != ".h5")
       rk.fail("file", "= \"" + f + "\": must be a plain file name ending in .h5 (no directories)");
     st.params = WriteStage{f};
+  } else if (st.kind == "read") {
+    if (index != 0) rk.fail("kind", "= \"read\" must be the first stage (it builds the sample)");
+    std::string f = rk.string_or("file", "", "configuration file (.h5) written by granpack");
+    if (f.empty()) rk.fail("file", "missing required key (a granpack .h5 file, e.g. \"out/A/A.h5\")");
+    st.params = ReadStage{f};
   } else if (st.kind == "ed_gas") {
     EdGasStage e;
     e.collisions_per_grain = rk.number("collisions_per_grain", Range::positive(),
@@ -296,9 +301,12 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
     read_compress_controls(rk, ps.compress);
     st.params = ps;
   } else if (st.kind == "fix_rattlers") {
-    if (!after_compress)
-      rk.fail("kind", "= \"fix_rattlers\" needs an earlier compress stage (an equilibrated backbone)");
     FixRattlersStage f;
+    if (rk.has("pressure"))
+      f.pressure = rk.number("pressure", Range::positive(), "pressure P of the packing (Pa), the push scale");
+    else if (!after_compress)
+      rk.fail("kind", "= \"fix_rattlers\" needs an earlier compress stage (an equilibrated backbone) "
+                      "or a `pressure` key (after a read stage)");
     f.force = rk.number_or("force", f.force, Range::open(0.0, 1.0), "push magnitude / (a^2 P)");
     f.tolerance = rk.number_or("tolerance", f.tolerance, Range::open(0.0, 1.0),
                                "net force on every rattler / push magnitude at equilibrium");
@@ -314,7 +322,7 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
 
 const std::vector<std::string>& stage_kinds() {
   static const std::vector<std::string> kinds = {
-      "lattice", "random",       "ed_gas",       "ls_compress", "expand",
+      "lattice", "random", "read", "ed_gas",       "ls_compress", "expand",
       "compress", "pressure_steps", "fix_rattlers", "set",         "write"};
   return kinds;
 }

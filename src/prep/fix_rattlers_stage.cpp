@@ -51,11 +51,12 @@ std::vector<GlobalId> all_ids(MPI_Comm comm, const std::vector<GlobalId>& mine) 
 }  // namespace
 
 template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixRattlersStage& f) {
-  GRANPACK_CHECK(ctx.decomposition && ctx.pressure > 0,
+  const double P = f.pressure ? *f.pressure : ctx.pressure;
+  GRANPACK_CHECK(ctx.decomposition && P > 0,
                  "stage " << ctx.stage_index << " (" << ctx.stage_name
                           << ") needs an equilibrated packing from a compress stage");
   const auto& sample = ctx.deck->sample;
-  const double a = sample.diameter, P = ctx.pressure;
+  const double a = sample.diameter;
   const double force_scale = (dim == 3 ? a * a : a) * P;
   const double push = f.force * force_scale;
   const int min_contacts = ctx.material.friction > 0 ? 2 : dim + 1;

@@ -5,6 +5,9 @@
 // cost is one event calendar; for n = 4000 the 50 collisions per grain of [AR] take about a
 // second. Other ranks wait meanwhile (docs/event-driven.md).
 //
+// Collisions per grain count, as in [AR] ("until each particle has had n_coll collisions on
+// average"), the collisions a grain takes part in: 2 C / n for C pair collisions.
+//
 // The hard-sphere time unit is arbitrary: velocities are drawn from a Maxwell distribution
 // and scaled so that the rms speed is one diameter a per unit time. Grains leave these stages
 // at rest (the following compress stage starts from zero velocities, as in [AR]) and without
@@ -113,7 +116,7 @@ template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage
     HardSphereMD<dim> gas = make_gas(ctx, g, e.seed);
     const auto n = static_cast<double>(g.size());
     gas.reset_pressure();
-    gas.run_collisions(static_cast<std::int64_t>(std::llround(e.collisions_per_grain * n)));
+    gas.run_collisions(static_cast<std::int64_t>(std::llround(0.5 * e.collisions_per_grain * n)));
     GRANPACK_CHECK(gas.min_relative_gap() > -1e-9, "the hard-sphere gas developed an overlap");
     stats[0] = static_cast<double>(gas.collisions());
     stats[1] = gas.time();
@@ -126,12 +129,12 @@ template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage
   scatter_back(ctx, g, x);
   const double n = static_cast<double>(ctx.deck->sample.n);
   std::ostringstream os;
-  os << "  " << stats[0] << " collisions (" << stats[0] / n << " per grain) in " << stats[1]
+  os << "  " << stats[0] << " collisions (" << 2 * stats[0] / n << " per grain) in " << stats[1]
      << " a/v_rms at phi " << ctx.solid_fraction() << ", compressibility factor PV/NkT "
      << stats[2];
   ctx.log->info(os.str());
   StageReport r;
-  r.values = {{"collisions_per_grain", stats[0] / n},
+  r.values = {{"collisions_per_grain", 2 * stats[0] / n},
               {"hard_sphere_time", stats[1]},
               {"compressibility_factor", stats[2]}};
   return r;
@@ -171,14 +174,14 @@ template <int dim> StageReport run_ls_compress(RunContext<dim>& ctx, const LsCom
       if (std::chrono::duration<double>(now - last_log).count() < 10) return;
       last_log = now;
       std::ostringstream os;
-      os << "  LS: phi " << s.solid_fraction() << ", " << double(s.collisions()) / n
+      os << "  LS: phi " << s.solid_fraction() << ", " << 2 * double(s.collisions()) / n
          << " collisions per grain";
       ctx.log->progress(os.str());
     };
     for (double target : targets) {
       const auto before = gas.collisions();
       gas.grow(target, rate, l.rescale_every, progress);
-      stats[k++] = double(gas.collisions() - before) / n;
+      stats[k++] = 2 * double(gas.collisions() - before) / n;
     }
     GRANPACK_CHECK(gas.min_relative_gap() > -1e-9, "the hard-sphere growth developed an overlap");
     stats[intervals] = gas.radii().front() / r0;

@@ -65,6 +65,7 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
           else if constexpr (std::is_same_v<P, CompressStage>) return run_compress(ctx, p);
           else if constexpr (std::is_same_v<P, SetStage>) return run_set(ctx, p);
           else if constexpr (std::is_same_v<P, WriteStage>) return run_write(ctx, p);
+          else if constexpr (std::is_same_v<P, ReadStage>) return run_read(ctx, p);
           else if constexpr (std::is_same_v<P, EdGasStage>) return run_ed_gas(ctx, p);
           else if constexpr (std::is_same_v<P, LsCompressStage>) return run_ls_compress(ctx, p);
           else if constexpr (std::is_same_v<P, ExpandStage>) return run_expand(ctx, p);

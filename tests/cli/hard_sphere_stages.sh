@@ -39,6 +39,25 @@ for np in 1 2; do
     echo "FAIL: run on $np rank(s):"; tail -20 "$scratch/np$np.txt"; exit 1
   fi
 done
+# The read stage starts a run from a stored file (here the gas written on 2 ranks, read on 1).
+cat > "$scratch/read.toml" <<TOML
+[sample]
+dimension = 3
+n = 256
+diameter = 1.0e-3
+[material]
+density = 2500.0
+young_modulus = 70.0e9
+poisson_ratio = 0.3
+friction = 0.3
+damping = 0.98
+[[stage]]
+kind = "read"
+file = "$scratch/np2/gas.h5"
+TOML
+if ! mpiexec -n 1 "$GRANPACK_EXE" run "$scratch/read.toml" -o "$scratch/read" --quiet > "$scratch/read.txt" 2>&1; then
+  echo "FAIL: read stage:"; tail -20 "$scratch/read.txt"; exit 1
+fi
 /usr/bin/python3 - "$scratch" <<'PY'
 import json, sys
 import h5py, numpy as np
@@ -64,6 +83,10 @@ for name in ["gas.h5", "final.h5"]:
     gap = (dist - (r1[:, None] + r1[None, :])).min() / (2 * r1.max())
     if gap < -1e-9:
         fails.append(f"{name}: overlap {gap}")
+s_gas = load(f"{d}/np2/gas.h5")[0]
+s_read = load(f"{d}/read/final.h5")[0]
+if not np.array_equal(s_gas, s_read):
+    fails.append("read stage: the file read back differs from the file written")
 r = json.load(open(f"{d}/np2/report.json"))
 ls = r["stages"][3]
 if abs(ls["phi"] - 0.55) > 1e-9:

@@ -73,6 +73,10 @@ struct SetStage {
 struct WriteStage {
   std::string file;  ///< relative to the output directory
 };
+/// Starts from a configuration file written by granpack (grains, contacts, cell).
+struct ReadStage {
+  std::string file;  ///< path as given (relative to the working directory)
+};
 /// Event-driven hard-sphere gas at fixed volume ([AR] sec. III melting, sec. IV B mixing).
 struct EdGasStage {
   double collisions_per_grain = 0;  ///< n_coll: stop after n_coll * n collisions
@@ -105,11 +109,12 @@ struct FixRattlersStage {
   double tolerance = 1e-3;   ///< equilibrium: net force on every rattler < tolerance x push
   std::int64_t max_steps = 0;
   std::uint64_t seed = 0;
+  std::optional<double> pressure;  ///< P for the push scale (default: the last compress's)
 };
 
 using StageParams = std::variant<LatticeStage, RandomStage, CompressStage, SetStage, WriteStage,
                                  EdGasStage, LsCompressStage, ExpandStage, PressureStepsStage,
-                                 FixRattlersStage>;
+                                 FixRattlersStage, ReadStage>;
 
 struct StageSpec {
   int index = 0;     ///< 0-based position in the deck

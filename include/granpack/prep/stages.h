@@ -14,6 +14,7 @@ template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStag
 template <int dim> StageReport run_compress(RunContext<dim>& ctx, const CompressStage& p);
 template <int dim> StageReport run_set(RunContext<dim>& ctx, const SetStage& p);
 template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage& p);
+template <int dim> StageReport run_read(RunContext<dim>& ctx, const ReadStage& p);
 template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage& p);
 template <int dim> StageReport run_ls_compress(RunContext<dim>& ctx, const LsCompressStage& p);
 template <int dim> StageReport run_expand(RunContext<dim>& ctx, const ExpandStage& p);
