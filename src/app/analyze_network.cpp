@@ -37,9 +37,8 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
 
   // x_i: I, backbone contacts per grain, rattlers as x0; II, every force-carrying contact
   // (after a fix_rattlers stage this is [AR]'s treatment II); III, rattlers removed.
-  std::vector<double> h1(max_z, 0.0), h2(max_z, 0.0), h3(max_z, 0.0), all(p.size(), 0.0);
-  for (const auto& c : v.carrying) all[c.i] += 1, all[c.j] += 1;
-  std::vector<double> all_counts = all;
+  std::vector<double> h1(max_z, 0.0), h2(max_z, 0.0), h3(max_z, 0.0), all_counts(p.size(), 0.0);
+  for (const auto& c : v.carrying) all_counts[c.i] += 1, all_counts[c.j] += 1;
   v.halo.reverse_values(all_counts, *v.decomposition);
   std::int64_t divalent = 0;
   for (std::size_t i = 0; i < p.n_owned(); ++i) {

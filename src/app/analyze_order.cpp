@@ -57,6 +57,9 @@ OrderAtCutoff order_at(const PackingView<3>& v, double dc_over_a) {
   const AsteSample samples[3] = {AsteSample::F, AsteSample::D, AsteSample::B};
   const bool tabulated = std::abs(dc_over_a - std::round(dc_over_a * 10) / 10) < 1e-9 &&
                          dc_over_a > 1.05 && dc_over_a < 1.45;
+  std::vector<std::vector<OrderWindow>> windows;  // per Aste sample, when d_c is tabulated
+  if (tabulated)
+    for (AsteSample sample : samples) windows.push_back(windows_for(sample, dc_over_a));
   for (std::size_t i = 0; i < nown; ++i) {
     const auto cryst = crystalline_neighbors(hood[i], table);
     tally.add(q6[i], int(cryst.size()));
@@ -65,12 +68,9 @@ OrderAtCutoff order_at(const PackingView<3>& v, double dc_over_a) {
       cluster_data.push_back(double(cryst.size()));
       for (GlobalId id : cryst) cluster_data.push_back(double(id));
     }
-    if (tabulated)
-      for (int s = 0; s < 3; ++s) {
-        const auto windows = windows_for(samples[s], dc_over_a);
-        for (std::size_t w : windows_containing(q4[i].Q, q6[i].Q, windows))
-          out.window_counts[std::size_t(3 * s) + w] += 1;
-      }
+    for (std::size_t s = 0; s < windows.size(); ++s)
+      for (std::size_t w : windows_containing(q4[i].Q, q6[i].Q, windows[s]))
+        out.window_counts[3 * s + w] += 1;
   }
   std::vector<double> packed = tally.packed();
   MPI_Allreduce(MPI_IN_PLACE, packed.data(), int(packed.size()), MPI_DOUBLE, MPI_SUM, v.world);

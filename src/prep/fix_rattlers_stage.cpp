@@ -89,7 +89,13 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
   MaterialSpec frictionless = ctx.material;
   frictionless.friction = 0;
   s.mobile = &rattlers;
-  s.body_force = [&](GlobalId id) -> Vec<dim> { return push * push_direction<dim>(id, f.seed); };
+  // The pushes, drawn once per rattler (in the order of the sorted ids), not at every step.
+  std::vector<Vec<dim>> pushes(rattlers.size());
+  for (std::size_t k = 0; k < rattlers.size(); ++k) pushes[k] = push * push_direction<dim>(rattlers[k], f.seed);
+  s.body_force = [&](GlobalId id) -> Vec<dim> {
+    const auto it = std::lower_bound(rattlers.begin(), rattlers.end(), id);
+    return pushes[static_cast<std::size_t>(it - rattlers.begin())];
+  };
   MdEngine<dim> engine(ctx, contact_law_of<dim>(frictionless), s);
   auto& p = ctx.system.particles;
   std::int64_t steps = 0;
