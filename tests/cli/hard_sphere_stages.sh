@@ -8,8 +8,8 @@ set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
-cat > "$scratch/ed.toml" <<'TOML'
-[sample]
+# Sample and material shared by both decks of this test.
+header="[sample]
 dimension = 3
 n = 256
 diameter = 1.0e-3
@@ -20,6 +20,8 @@ young_modulus = 70.0e9
 poisson_ratio = 0.3
 friction = 0.3
 damping = 0.98
+"
+{ printf '%s' "$header"; cat <<'TOML'
 [[stage]]
 kind = "lattice"
 phi = 0.45
@@ -34,27 +36,19 @@ kind = "ls_compress"
 phi = 0.55
 report_phi = [0.5]
 TOML
+} > "$scratch/ed.toml"
 for np in 1 2; do
   if ! mpiexec -n $np "$GRANPACK_EXE" run "$scratch/ed.toml" -o "$scratch/np$np" --quiet > "$scratch/np$np.txt" 2>&1; then
     echo "FAIL: run on $np rank(s):"; tail -20 "$scratch/np$np.txt"; exit 1
   fi
 done
 # The read stage starts a run from a stored file (here the gas written on 2 ranks, read on 1).
-cat > "$scratch/read.toml" <<TOML
-[sample]
-dimension = 3
-n = 256
-diameter = 1.0e-3
-[material]
-density = 2500.0
-young_modulus = 70.0e9
-poisson_ratio = 0.3
-friction = 0.3
-damping = 0.98
+{ printf '%s' "$header"; cat <<TOML
 [[stage]]
 kind = "read"
 file = "$scratch/np2/gas.h5"
 TOML
+} > "$scratch/read.toml"
 if ! mpiexec -n 1 "$GRANPACK_EXE" run "$scratch/read.toml" -o "$scratch/read" --quiet > "$scratch/read.txt" 2>&1; then
   echo "FAIL: read stage:"; tail -20 "$scratch/read.txt"; exit 1
 fi
