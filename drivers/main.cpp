@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <iostream>
 
 #include "granpack/app/analyze.h"
@@ -36,7 +37,16 @@ int main(int argc, char** argv) {
   auto* run_cmd = app.add_subcommand("run", "assemble/equilibrate a packing as a deck says");
   run_cmd->add_option("deck", run.deck, "TOML deck (docs/deck.md)")->required();
   run_cmd->add_option("-o,--output", run.output_dir, "output directory (default out/<deck stem>)");
-  run_cmd->add_option("--restart", restart, "continue from this checkpoint file");
+  run_cmd->add_option("--restart", restart, "continue from this checkpoint file (DIR/checkpoint.h5)");
+  run_cmd->add_flag("--allow-deck-change", run.allow_deck_change,
+                    "on --restart, let the stages after the one in progress differ from the checkpoint's deck");
+  std::int64_t ckpt_steps = -1;
+  double ckpt_seconds = -1;
+  run_cmd->add_option("--checkpoint-every-steps", ckpt_steps, "steps between checkpoints, 0: off (overrides the deck)")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--checkpoint-every-seconds", ckpt_seconds,
+                      "wall seconds between checkpoints, 0: off (overrides the deck)")
+      ->check(CLI::NonNegativeNumber);
   run_cmd->add_flag("-q,--quiet", run.quiet, "no progress lines (batch mode)");
 
   std::string file, json_out;
@@ -66,6 +76,8 @@ int main(int argc, char** argv) {
     }
     if (*run_cmd) {
       if (!restart.empty()) run.restart = restart;
+      if (ckpt_steps >= 0) run.checkpoint_every_steps = ckpt_steps;
+      if (ckpt_seconds >= 0) run.checkpoint_every_seconds = ckpt_seconds;
       code = granpack::run_deck(MPI_COMM_WORLD, run);
     } else if (*info_cmd) {
       std::string text = granpack::describe_file(MPI_COMM_WORLD, file);
@@ -79,6 +91,10 @@ int main(int argc, char** argv) {
     } else if (*stiffness_cmd) {
       throw granpack::NotImplemented("'granpack stiffness' is not implemented yet (issue 6)");
     }
+  } catch (const granpack::CheckpointedStop& e) {
+    // Not an error: the batch system asked us to stop and the state is saved.
+    if (root) std::cerr << "granpack: " << e.what() << std::endl;
+    code = e.exit_code();
   } catch (const granpack::Error& e) {
     // granpack errors are collective by construction (docs/ARCHITECTURE.md, "Errors"): every
     // rank arrives here with the same message, rank 0 says it once.

@@ -18,6 +18,15 @@ Decomposition<dim>::Decomposition(MPI_Comm world, const Vec<dim>& cell_lengths) 
   std::stable_sort(axes.begin(), axes.end(),
                    [&](int a, int b) { return cell_lengths[a] > cell_lengths[b]; });
   for (int k = 0; k < dim; ++k) dims_[axes[k]] = d[k];
+  create_grid(world);
+}
+
+template <int dim>
+Decomposition<dim>::Decomposition(MPI_Comm world, const std::array<int, dim>& dims) : dims_(dims) {
+  create_grid(world);
+}
+
+template <int dim> void Decomposition<dim>::create_grid(MPI_Comm world) {
   std::array<int, dim> periods;
   periods.fill(1);
   // reorder = 0: rank numbers stay those of `world`, so logs and files speak of the same ranks.

@@ -1,6 +1,7 @@
 #include "granpack/core/particles.h"
 
 #include <algorithm>
+#include <numeric>
 #include <numbers>
 
 namespace granpack {
@@ -100,6 +101,29 @@ template <int dim> void ParticleStore<dim>::remove_owned(std::vector<std::size_t
     --n_owned_;
     resize(n_owned_);
   }
+}
+
+template <int dim> void ParticleStore<dim>::sort_owned_by_id() {
+  assert(n_ghost() == 0 && "clear ghosts before sorting");
+  std::vector<std::size_t> order(n_owned_);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
+  auto permute = [&](auto& v) {
+    std::remove_reference_t<decltype(v)> out;
+    out.reserve(v.size());
+    for (std::size_t k : order) out.push_back(v[k]);
+    v.swap(out);
+  };
+  permute(id);
+  permute(radius);
+  permute(mass);
+  permute(inertia);
+  permute(position);
+  permute(velocity);
+  permute(force);
+  permute(angular_velocity);
+  permute(torque);
+  permute(orientation);
 }
 
 template <int dim> void ParticleStore<dim>::clear_forces() {

@@ -423,6 +423,26 @@ Handle open_for_reading(MPI_Comm comm, const FileContext& ctx) {
   return file;
 }
 
+/// A scalar fixed-length UTF-8 string dataset (parallel HDF5 cannot write variable-length
+/// data), written by rank 0 alone with independent I/O. Collective (dataset creation).
+void write_text_dataset(const FileContext& ctx, hid_t file, MPI_Comm comm, const char* name,
+                        const std::string& text) {
+  const std::string what = std::string("dataset /") + name;
+  auto type = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot create " + what));
+  ctx.rc(H5Tset_size(type, std::max<std::size_t>(text.size(), 1)), "cannot create " + what);
+  ctx.rc(H5Tset_strpad(type, H5T_STR_NULLPAD), "cannot create " + what);
+  ctx.rc(H5Tset_cset(type, H5T_CSET_UTF8), "cannot create " + what);
+  auto space = scalar_space(ctx);
+  auto dset = h5::dataset_handle(
+      ctx.id(H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+             "cannot create " + what));
+  if (comm_rank(comm) == 0) {
+    std::string padded = text.empty() ? std::string(1, '\0') : text;
+    ctx.rc(H5Dwrite(dset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()),
+           "cannot write " + what);
+  }
+}
+
 /// Not collective (metadata reads only). Root attributes and /deck.
 FileMeta read_meta(const FileContext& ctx, hid_t file) {
   const std::string root = "/";
@@ -459,6 +479,14 @@ FileMeta read_meta(const FileContext& ctx, hid_t file) {
   auto deck =
       h5::dataset_handle(ctx.id(H5Dopen2(file, "deck", H5P_DEFAULT), "cannot open dataset /deck"));
   m.deck_text = read_string(ctx, deck, false, "dataset /deck");
+  // /run_state: only in checkpoints (the stage state a restart continues from).
+  const htri_t has_state = H5Lexists(file, "run_state", H5P_DEFAULT);
+  if (has_state < 0) ctx.fail("cannot look up dataset /run_state", true);
+  if (has_state > 0) {
+    auto state = h5::dataset_handle(
+        ctx.id(H5Dopen2(file, "run_state", H5P_DEFAULT), "cannot open dataset /run_state"));
+    m.run_state = read_string(ctx, state, false, "dataset /run_state");
+  }
   return m;
 }
 
@@ -531,24 +559,9 @@ void write_file(MPI_Comm comm, const FileContext& ctx, const Configuration<dim>&
   write_attribute(ctx, file, "stage_name", m.stage_name);
   write_attribute(ctx, file, "kind", m.kind.empty() ? std::string("configuration") : m.kind);
 
-  // /deck: a scalar fixed-length string (parallel HDF5 cannot write variable-length data),
-  // written by rank 0 alone with independent I/O.
-  {
-    const std::string& text = m.deck_text;
-    auto type = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot create /deck"));
-    ctx.rc(H5Tset_size(type, std::max<std::size_t>(text.size(), 1)), "cannot create /deck");
-    ctx.rc(H5Tset_strpad(type, H5T_STR_NULLPAD), "cannot create /deck");
-    ctx.rc(H5Tset_cset(type, H5T_CSET_UTF8), "cannot create /deck");
-    auto space = scalar_space(ctx);
-    auto deck = h5::dataset_handle(
-        ctx.id(H5Dcreate2(file, "deck", type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-               "cannot create dataset /deck"));
-    if (comm_rank(comm) == 0) {
-      std::string padded = text.empty() ? std::string(1, '\0') : text;
-      ctx.rc(H5Dwrite(deck, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()),
-             "cannot write /deck");
-    }
-  }
+  // /deck (and /run_state in checkpoints): scalar fixed-length strings.
+  write_text_dataset(ctx, file, comm, "deck", m.deck_text);
+  if (!m.run_state.empty()) write_text_dataset(ctx, file, comm, "run_state", m.run_state);
 
   {
     auto g = group_create(ctx, file, "cell");

@@ -6,9 +6,9 @@
 
 namespace granpack {
 
-void Log::open_file(const std::string& path) {
+void Log::open_file(const std::string& path, bool append) {
   if (!root_) return;
-  file_ = std::make_unique<std::ofstream>(path, std::ios::trunc);
+  file_ = std::make_unique<std::ofstream>(path, append ? std::ios::app : std::ios::trunc);
   if (!*file_) throw Error("cannot write the log file " + path);
 }
 

@@ -38,7 +38,43 @@ nlohmann::json stage_json(const StageReport& s) {
   e["wall_seconds"] = s.wall_seconds;
   return e;
 }
+template <class T> std::optional<T> opt_from(const nlohmann::json& e, const char* key) {
+  if (!e.contains(key) || e[key].is_null()) return std::nullopt;
+  return e[key].get<T>();
+}
+StageReport stage_from_json(const nlohmann::json& e) {
+  StageReport s;
+  s.name = e.at("name").get<std::string>();
+  s.kind = e.at("kind").get<std::string>();
+  s.steps = e.at("steps").get<std::int64_t>();
+  s.time = e.at("time").get<double>();
+  s.equilibrated = opt_from<bool>(e, "equilibrated");
+  s.phi = opt_from<double>(e, "phi");
+  s.pressure = opt_from<double>(e, "pressure");
+  s.kappa = opt_from<double>(e, "kappa");
+  s.inertia_max = opt_from<double>(e, "inertia_max");
+  s.z = opt_from<double>(e, "z");
+  s.z_star = opt_from<double>(e, "z_star");
+  s.x0 = opt_from<double>(e, "x0");
+  s.x2 = opt_from<double>(e, "x2");
+  s.z2 = opt_from<double>(e, "z2");
+  for (const auto& [key, value] : e.at("values").items()) s.values.emplace_back(key, value.get<double>());
+  if (e.contains("levels"))
+    for (const auto& l : e["levels"]) s.levels.push_back(stage_from_json(l));
+  s.wall_seconds = e.at("wall_seconds").get<double>();
+  return s;
+}
 }  // namespace
+
+std::string stage_report_json(const StageReport& s) { return stage_json(s).dump(); }
+
+StageReport stage_report_from_json(const std::string& text) {
+  try {
+    return stage_from_json(nlohmann::json::parse(text));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("a stage entry of the checkpoint is not valid: ") + e.what());
+  }
+}
 
 std::string to_json(const RunReport& r) {
   nlohmann::json j;

@@ -5,6 +5,8 @@
 #include <cstdio>
 
 #include "granpack/core/error.h"
+#include "granpack/dynamics/eta_estimate.h"
+#include "granpack/prep/checkpoint.h"
 #include "granpack/prep/material_law.h"
 #include "granpack/prep/md_engine.h"
 #include "granpack/prep/stages.h"
@@ -65,20 +67,52 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
     ctx.log->info(buf);
   }
 
-  MdEngine<dim> engine(ctx, contact_law_of<dim>(ctx.material), s);
   const double force_scale = (dim == 3 ? a * a : a) * P;
   const double energy_scale = (dim == 3 ? a * a * a : a * a) * P;
   const std::int64_t check_every = 50;
   const std::int64_t log_every = ctx.deck->output.log_every;
-  const std::int64_t first_step = ctx.system.step;
-  const double first_time = ctx.system.time;
+  std::int64_t first_step = ctx.system.step;
+  double first_time = ctx.system.time;
   double inertia_reached = 0;
   bool equilibrated = false;
   std::int64_t last_quench = -c.quench_interval, quenches = 0;
+  // Restart inside this stage: the loop's state as the checkpoint left it. The cell mass is
+  // restored too: a sum over grains in another order could differ in its last bit.
+  const nlohmann::json resume = ctx.take_resume_frame();
+  const bool resuming = !resume.is_null();
+  if (resuming) {
+    first_step = resume.at("first_step").get<std::int64_t>();
+    first_time = exact_double(resume.at("first_time"));
+    inertia_reached = exact_double(resume.at("inertia_reached"));
+    last_quench = resume.at("last_quench").get<std::int64_t>();
+    quenches = resume.at("quenches").get<std::int64_t>();
+    s.cell.mass = exact_double(resume.at("cell_mass"));
+  }
+  StageFrame<dim> frame(ctx, [&] {
+    return nlohmann::json{{"stage", "compress"},
+                          {"first_step", first_step},
+                          {"first_time", exact(first_time)},
+                          {"inertia_reached", exact(inertia_reached)},
+                          {"last_quench", last_quench},
+                          {"quenches", quenches},
+                          {"cell_mass", exact(s.cell.mass)}};
+  });
+  MdEngine<dim> engine(ctx, contact_law_of<dim>(ctx.material), s);
   EquilibriumMeasure m = engine.measure(force_scale, P, energy_scale);
   auto last_log = clock::now();
-  std::int64_t last_log_step = first_step;
+  std::int64_t last_log_step = ctx.system.step;
+  EtaEstimate eta(c.tolerance);
+  // On a mid-step restart the engine has just completed the interrupted step: continue after
+  // the engine.step() call of the loop below.
+  bool after_step = resuming;
   while (true) {
+    if (after_step) {
+      after_step = false;
+      for (int k = 0; k < dim; ++k)
+        inertia_reached = std::max(inertia_reached, std::abs(ctx.system.cell.rate[k] /
+                                                             ctx.system.cell.length[k]) * inertia_time);
+      continue;
+    }
     const std::int64_t done = ctx.system.step - first_step;
     if (done % check_every == 0) {
       m = engine.measure(force_scale, P, energy_scale);
@@ -107,15 +141,15 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
       const auto now = clock::now();
       const double secs = std::chrono::duration<double>(now - last_log).count();
       const double rate = secs > 0 ? double(ctx.system.step - last_log_step) / secs : 0.0;
-      ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, ctx.solid_fraction(), m,
-                                      engine.observables().contacts, rate));
+      const double phi = ctx.solid_fraction();
+      ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, phi, m,
+                                      engine.observables().contacts, rate) +
+                        eta.update(m, ctx.system.step, rate, c.max_steps > 0 ? first_step + c.max_steps : -1));
       last_log = now;
       last_log_step = ctx.system.step;
     }
     engine.step();
-    for (int k = 0; k < dim; ++k)
-      inertia_reached = std::max(inertia_reached, std::abs(ctx.system.cell.rate[k] /
-                                                           ctx.system.cell.length[k]) * inertia_time);
+    after_step = true;
   }
   ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, ctx.solid_fraction(), m,
                                   engine.observables().contacts, 0.0));

@@ -9,6 +9,7 @@
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/dynamics/integrator.h"
+#include "granpack/prep/stages.h"
 
 namespace granpack {
 
@@ -22,14 +23,24 @@ MdEngine<dim>::MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law,
   for (std::size_t i = 0; i < ctx.system.particles.n_owned(); ++i)
     r = std::max(r, ctx.system.particles.radius[i]);
   max_radius_ = global_max(ctx.world, r);
-  rebuild();
-  forces_and_observables();
+  rebuild(true);
+  if (ctx.resume_mid_step) {
+    // Restart inside a stage: the checkpoint was taken in the middle of a step, right after
+    // a canonical rebuild like the one above; finish that step as the interrupted run did.
+    ctx.resume_mid_step = false;
+    finish_step();
+  } else {
+    forces_and_observables();
+  }
 }
 
-template <int dim> void MdEngine<dim>::rebuild() {
+template <int dim> void MdEngine<dim>::rebuild(bool canonical) {
   auto& sys = ctx_.system;
   sys.particles.clear_ghosts();
   migrate(sys, *ctx_.decomposition);
+  // Grains in id order: every later sum (forces, virial, reductions) then follows an order
+  // that a restarted run reproduces from the checkpoint alone.
+  if (canonical) sys.particles.sort_owned_by_id();
   // Ghost layer: every grain that can come within reach of ours before the next rebuild.
   const double cutoff = 2 * max_radius_ + law_.interaction_range() + settings_.skin;
   halo_.borders(sys.particles, *ctx_.decomposition, Vec<dim>::Constant(cutoff).cwiseQuotient(sys.cell.length));
@@ -51,10 +62,11 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   double local[2 * nt + 2], global[2 * nt + 2];
   Tensor<dim> kinetic = Tensor<dim>::Zero();
   const auto& p = sys.particles;
-  double ek = 0;
+  double ek = 0, v2max = 0;
   for (std::size_t i = 0; i < p.n_owned(); ++i) {
     kinetic.noalias() += p.mass[i] * p.velocity[i] * p.velocity[i].transpose();
     ek += 0.5 * p.inertia[i] * p.angular_velocity[i].squaredNorm();
+    v2max = std::max(v2max, p.velocity[i].squaredNorm());
   }
   ek += 0.5 * kinetic.trace();
   Eigen::Map<Tensor<dim>> total_part(local), elastic_part(local + nt);
@@ -68,7 +80,12 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   obs_.stress_elastic = Eigen::Map<Tensor<dim>>(global + nt) / volume;
   obs_.kinetic_energy = global[2 * nt];
   obs_.contacts = static_cast<std::int64_t>(global[2 * nt + 1]);
-  obs_.max_overlap = global_max(ctx_.world, sums.max_overlap);
+  // The largest overlap and the largest displacement in a step (|v| dt with the velocity
+  // that drifted the grains), in one all-reduce.
+  double mx[2] = {sums.max_overlap, std::sqrt(v2max) * settings_.dt};
+  MPI_Allreduce(MPI_IN_PLACE, mx, 2, MPI_DOUBLE, MPI_MAX, ctx_.world);
+  obs_.max_overlap = mx[0];
+  obs_.max_step_displacement = mx[1];
 }
 
 template <int dim> void MdEngine<dim>::hold_and_push() {
@@ -95,16 +112,30 @@ template <int dim> void MdEngine<dim>::step() {
   drift(p, sys.cell, dt);
   if (settings_.stress_control) CellControl<dim>::drift(sys.cell, dt);
 
-  int local = list_.needs_rebuild(p, sys.cell) ? 1 : 0, any = 0;
-  MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, ctx_.world);
-  if (any)
-    rebuild();
-  else
+  // One all-reduce decides for every rank: rebuild the lists, checkpoint, stop.
+  int bits = list_.needs_rebuild(p, sys.cell) ? kRequestRebuild : 0;
+  if (ctx_.checkpointer) bits |= ctx_.checkpointer->local_request(sys.step + 1);
+  MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, ctx_.world);
+  // A checkpoint inside a stage needs the stage's state (its frame); stages without one
+  // checkpoint at their end (run_deck).
+  if ((bits & kRequestCheckpoint) && !ctx_.frames.empty()) {
+    rebuild(true);
+    ctx_.checkpointer->write(ctx_, true);
+    ctx_.checkpointer->stop_if_requested(bits, sys.step);
+  } else if (bits & kRequestRebuild) {
+    rebuild(false);
+  } else {
     halo_.forward(p, *ctx_.decomposition);
+  }
+  finish_step();
+}
 
+template <int dim> void MdEngine<dim>::finish_step() {
+  auto& sys = ctx_.system;
+  const double dt = settings_.dt;
   forces_and_observables();
   check_sanity();
-  kick(p, 0.5 * dt);
+  kick(sys.particles, 0.5 * dt);
   if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
   sys.time += dt;
   ++sys.step;
@@ -113,33 +144,80 @@ template <int dim> void MdEngine<dim>::step() {
 template <int dim> void MdEngine<dim>::check_sanity() {
   // Global values first (identical on every rank, so every rank decides alike); the search
   // for the culprit grain runs only when something is wrong.
-  const bool finite = obs_.stress.allFinite() && std::isfinite(obs_.kinetic_energy);
+  const bool finite = obs_.stress.allFinite() && std::isfinite(obs_.kinetic_energy) &&
+                      std::isfinite(obs_.max_step_displacement);
   const bool overlap_ok = obs_.max_overlap <= settings_.max_overlap;
-  if (finite && overlap_ok) return;
+  const bool moves_ok = obs_.max_step_displacement <= settings_.max_step_displacement * settings_.skin;
+  if (finite && overlap_ok && moves_ok) return;
+  const std::string at = "step " + std::to_string(ctx_.system.step) + ": ";
   CollectiveError err;
   const auto& p = ctx_.system.particles;
-  for (std::size_t i = 0; i < p.n_owned(); ++i) {
+  for (std::size_t i = 0; i < p.n_owned() && !finite; ++i) {
     if (!p.position[i].allFinite() || !p.velocity[i].allFinite() || !p.force[i].allFinite()) {
-      err.record("step " + std::to_string(ctx_.system.step) + ": grain " + std::to_string(p.id[i]) +
+      err.record(at + "grain " + std::to_string(p.id[i]) +
                  " has a non-finite position, velocity or force (likely fix: a smaller "
                  "[numerics] time_step_fraction)");
       break;
     }
   }
-  if (!err.has_local() && !finite)
-    err.record("step " + std::to_string(ctx_.system.step) +
-               ": the stress or kinetic energy is not finite (likely fix: a smaller "
-               "[numerics] time_step_fraction)");
-  if (!err.has_local() && !overlap_ok) {
-    std::ostringstream os;
-    os << "step " << ctx_.system.step << ": a contact overlap reached " << obs_.max_overlap
-       << " of the grain radius (limit " << settings_.max_overlap
-       << "): the contacts are too soft for the pressure or the time step too large (likely "
-          "fix: a smaller [numerics] time_step_fraction, stiffer material or a cap "
-          "inertia_max on the compression)";
-    err.record(os.str());
+  if (!finite && !err.has_local() && ctx_.world != MPI_COMM_NULL) {
+    // Only the global sums are not finite: say so once, from rank 0.
+    int rank = 0;
+    MPI_Comm_rank(ctx_.world, &rank);
+    if (rank == 0)
+      err.record(at + "the stress or kinetic energy is not finite (likely fix: a smaller "
+                      "[numerics] time_step_fraction)");
   }
+  if (finite && !overlap_ok) {
+    // The pair with the largest overlap, on the rank that computed it.
+    double worst = -1;
+    std::string pair;
+    loop_.for_each_contact(ctx_.system, list_, [&](std::size_t i, std::size_t j, const Vec<dim>&,
+                                                   const ContactState<dim>&) {
+      const Vec<dim> r = ctx_.system.cell.length.cwiseProduct(p.position[j] - p.position[i]);
+      const double h = (p.radius[i] + p.radius[j] - r.norm()) / std::min(p.radius[i], p.radius[j]);
+      if (h > worst) worst = h, pair = std::to_string(p.id[i]) + " and " + std::to_string(p.id[j]);
+    });
+    if (worst >= obs_.max_overlap * (1 - 1e-9)) {
+      std::ostringstream os;
+      os << at << "the overlap of grains " << pair << " reached " << worst
+         << " of the smaller radius (limit " << settings_.max_overlap
+         << "): the contacts are too soft for the pressure or the time step too large (likely "
+            "fix: a smaller [numerics] time_step_fraction, stiffer material or a cap "
+            "inertia_max on the compression)";
+      err.record(os.str());
+    }
+  }
+  if (finite && overlap_ok && !moves_ok) {
+    for (std::size_t i = 0; i < p.n_owned(); ++i) {
+      if (p.velocity[i].norm() * settings_.dt >= obs_.max_step_displacement * (1 - 1e-12)) {
+        std::ostringstream os;
+        os << at << "grain " << p.id[i] << " moved " << obs_.max_step_displacement
+           << " m in one step, more than " << settings_.max_step_displacement * settings_.skin
+           << " m (the Verlet skin): the packing is blowing up, or the skin is too thin (likely "
+              "fix: a smaller [numerics] "
+              "time_step_fraction, a cap inertia_max on the compression, or a larger skin)";
+        err.record(os.str());
+        break;
+      }
+    }
+  }
+  write_postmortem();
   err.raise_if_any(ctx_.world);
+  // Every check failed globally, so some rank must have found a culprit; if rounding hid
+  // it, still never continue with a bad state.
+  throw Error(at + "the run went bad (non-finite values, overlap or displacement beyond the limits)");
+}
+
+template <int dim> void MdEngine<dim>::write_postmortem() {
+  if (!ctx_.deck || ctx_.output_dir.empty()) return;
+  const auto file = ctx_.output_dir / "postmortem.h5";
+  try {
+    write_state(ctx_, file);
+    ctx_.log->warn("the state of the failing step was written to " + file.string());
+  } catch (const Error& e) {
+    ctx_.log->warn("could not write the post-mortem snapshot " + file.string() + ": " + e.what());
+  }
 }
 
 template <int dim>

@@ -7,16 +7,38 @@
 #include <cmath>
 #include <sstream>
 
+#include "granpack/prep/checkpoint.h"
 #include "granpack/prep/stages.h"
 
 namespace granpack {
 
 template <int dim> StageReport run_pressure_steps(RunContext<dim>& ctx, const PressureStepsStage& ps) {
-  const std::vector<double> stress0 = ctx.stress;
+  std::vector<double> stress0 = ctx.stress;
   const std::vector<bool> fixed0 = ctx.fixed;
-  const double p0 = ctx.pressure;
+  double p0 = ctx.pressure;
   StageReport r;
-  for (std::int64_t k = 1; k <= ps.count; ++k) {
+  std::int64_t k = 1;
+  // Restart inside this stage: the levels done so far; the level in progress resumes in
+  // its compress run (the next frame).
+  const nlohmann::json resume = ctx.take_resume_frame();
+  if (!resume.is_null()) {
+    // The stresses the levels scale: the context now holds those of the last level done.
+    k = resume.at("level").get<std::int64_t>();
+    p0 = exact_double(resume.at("p0"));
+    stress0.clear();
+    for (const auto& v : resume.at("stress0")) stress0.push_back(exact_double(v));
+    for (const auto& l : resume.at("levels")) r.levels.push_back(stage_report_from_json(l.dump()));
+    for (const auto& l : r.levels) r.steps += l.steps, r.time += l.time;
+  }
+  StageFrame<dim> frame(ctx, [&] {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const auto& l : r.levels) levels.push_back(nlohmann::json::parse(stage_report_json(l)));
+    nlohmann::json s0 = nlohmann::json::array();
+    for (double v : stress0) s0.push_back(exact(v));
+    return nlohmann::json{{"stage", "pressure_steps"}, {"level", k}, {"levels", levels},
+                          {"p0", exact(p0)}, {"stress0", s0}};
+  });
+  for (; k <= ps.count; ++k) {
     const double scale = std::pow(ps.factor, static_cast<double>(k));
     CompressStage c = ps.compress;
     c.fixed = fixed0;

@@ -6,7 +6,11 @@
 #include "granpack/comm/collective_error.h"
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
+#include "granpack/comm/migration.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/prep/checkpoint.h"
 #include "granpack/prep/stages.h"
+#include "granpack/prep/stop_signals.h"
 
 namespace granpack {
 
@@ -44,15 +48,63 @@ std::string fmt_opt(const std::optional<double>& v) {
   return os.str();
 }
 
+/// Restores the state a checkpoint holds: grains, contacts, cell, time and step, the domain
+/// grid (the same one on the same rank count), the RunContext's material and stresses and the
+/// frames of the stages in progress.
+template <int dim> void restore(RunContext<dim>& ctx, const std::filesystem::path& file,
+                                const RunState& state) {
+  Configuration<dim> c = read_configuration<dim>(ctx.world, file);
+  ctx.system.cell = c.cell;
+  ctx.system.particles = std::move(c.particles);
+  ctx.system.contacts = std::move(c.contacts);
+  ctx.system.time = c.meta.time;
+  ctx.system.step = c.meta.step;
+  int size = 1;
+  MPI_Comm_size(ctx.world, &size);
+  if (size == state.ranks && state.grid.size() == dim) {
+    std::array<int, dim> grid;
+    std::copy(state.grid.begin(), state.grid.end(), grid.begin());
+    ctx.decomposition = std::make_unique<Decomposition<dim>>(ctx.world, grid);
+  } else {
+    ctx.decomposition = std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
+  }
+  distribute(ctx.system, *ctx.decomposition);
+  ctx.material.friction = state.friction;
+  ctx.material.damping = state.damping;
+  ctx.stress = state.stress;
+  ctx.fixed = state.fixed;
+  ctx.pressure = state.pressure;
+  ctx.resume.assign(state.frames.begin(), state.frames.end());
+  ctx.resume_mid_step = state.mid_stage;
+}
+
 template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
-                                   const std::filesystem::path& out, RunReport& report) {
+                                   const std::filesystem::path& out, RunReport& report,
+                                   Checkpointer& checkpointer, const RunOptions& options,
+                                   const std::optional<RunState>& state) {
   RunContext<dim> ctx;
   ctx.world = world;
   ctx.deck = &deck;
   ctx.material = deck.material;
   ctx.log = &log;
   ctx.output_dir = out;
-  for (const auto& st : deck.stages) {
+  ctx.checkpointer = &checkpointer;
+  checkpointer.completed = &report.stages;
+  std::size_t first = 0;
+  if (state) {
+    restore(ctx, *options.restart, *state);
+    report.stages = state->completed;
+    checkpointer.earlier_wall_seconds = state->wall_seconds;
+    first = static_cast<std::size_t>(state->stage_index);
+    log.info("restart from " + options.restart->string() + " at step " +
+             std::to_string(ctx.system.step) + ": " +
+             (first < deck.stages.size()
+                  ? (state->mid_stage ? "inside" : "at the start of") + std::string(" stage ") +
+                        std::to_string(first) + " '" + deck.stages[first].name + "'"
+                  : std::string("every stage is done")));
+  }
+  for (std::size_t index = first; index < deck.stages.size(); ++index) {
+    const auto& st = deck.stages[index];
     ctx.stage_index = st.index;
     ctx.stage_name = st.name;
     log.info("stage " + std::to_string(st.index) + " '" + st.name + "' (" + st.kind + ")");
@@ -74,6 +126,8 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
           else throw NotImplemented("stage kind '" + st.kind + "' is not implemented yet");
         },
         st.params);
+    GRANPACK_CHECK(ctx.resume.empty() && !ctx.resume_mid_step,
+                   "stage " << st.index << " did not consume the checkpoint's resume state");
     r.name = st.name;
     r.kind = st.kind;
     if (!r.phi && ctx.decomposition) r.phi = ctx.solid_fraction();
@@ -84,6 +138,13 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
     report.stages.push_back(r);
     log.info("  done: phi " + fmt_opt(r.phi) + ", steps " + std::to_string(r.steps) +
              ", wall " + fmt_opt(r.wall_seconds) + " s");
+    // Between stages: a checkpoint (cheap next to a stage), and the place where stages
+    // that cannot be checkpointed inside (event-driven, fix_rattlers) honour a stop signal.
+    if (index + 1 < deck.stages.size() && ctx.decomposition && checkpointer.policy().enabled()) {
+      const int bits = checkpointer.global_request(ctx.system.step);
+      checkpointer.write(ctx, false);
+      checkpointer.stop_if_requested(bits, ctx.system.step);
+    }
   }
   GRANPACK_CHECK(ctx.decomposition, "the deck never builds a sample (no lattice/random stage)");
   write_state(ctx, out / "final.h5");
@@ -101,13 +162,26 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
 
   // 1. Validate everything before touching the output directory.
   Deck deck = load_deck_collectively(world, options.deck);
-  if (options.restart)
-    throw NotImplemented("--restart is not implemented yet (checkpoint/restart: issue 7)");
   for (const auto& st : deck.stages)
     if (!stage_implemented(st.kind))
       throw NotImplemented(deck.file + ": stage[" + std::to_string(st.index) + "] kind = \"" +
                            st.kind + "\" is part of the deck language but not implemented in "
                            "granpack " GRANPACK_VERSION "; nothing was run or written");
+  std::optional<RunState> state;
+  if (options.restart) {
+    const std::string file = options.restart->string();
+    const FileMeta meta = read_file_meta(world, *options.restart);
+    if (meta.kind != "checkpoint" || meta.run_state.empty())
+      throw InputError(file + " is a " + meta.kind +
+                       " file, not a checkpoint: --restart takes the DIR/checkpoint.h5 of an "
+                       "interrupted run (a configuration can start a deck with a read stage)");
+    if (meta.dimension != deck.sample.dimension)
+      throw InputError(file + " holds a " + std::to_string(meta.dimension) + "D run; the deck is " +
+                       std::to_string(deck.sample.dimension) + "D");
+    state = parse_run_state(meta.run_state, file);
+    const Deck original = parse_deck(meta.deck_text, file + ":/deck");
+    check_restart_deck(original, deck, *state, options.allow_deck_change, file);
+  }
 
   std::filesystem::path out = options.output_dir;
   if (out.empty()) out = std::filesystem::path("out") / options.deck.stem();
@@ -120,10 +194,17 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   });
 
   Log log(rank == 0, options.quiet || deck.output.quiet);
-  collectively(world, [&] { log.open_file((out / "log.txt").string()); });
+  collectively(world, [&] { log.open_file((out / "log.txt").string(), state.has_value()); });
   log.info("granpack " GRANPACK_VERSION ": " + deck.file + " -> " + out.string() + " on " +
            std::to_string(size) + " rank(s), dimension " + std::to_string(deck.sample.dimension) +
            ", n = " + std::to_string(deck.sample.n));
+
+  CheckpointPolicy policy;
+  policy.file = out / "checkpoint.h5";
+  policy.every_steps = options.checkpoint_every_steps.value_or(deck.output.checkpoint_every_steps);
+  policy.every_seconds = options.checkpoint_every_seconds.value_or(deck.output.checkpoint_every_seconds);
+  Checkpointer checkpointer(world, policy);
+  install_stop_signal_handlers();
 
   RunReport report;
   report.version = GRANPACK_VERSION;
@@ -132,11 +213,12 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   report.ranks = size;
   report.deck = options.deck.string();
   if (deck.sample.dimension == 3)
-    run_stages<3>(world, deck, log, out, report);
+    run_stages<3>(world, deck, log, out, report, checkpointer, options, state);
   else
-    run_stages<2>(world, deck, log, out, report);
+    run_stages<2>(world, deck, log, out, report, checkpointer, options, state);
 
-  report.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  report.wall_seconds = checkpointer.earlier_wall_seconds +
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   collectively(world, [&] {
     if (rank == 0) write_report(out / "report.json", report);
   });

@@ -12,7 +12,8 @@ bool stage_implemented(const std::string& kind) {
   return std::find(stage_kinds().begin(), stage_kinds().end(), kind) != stage_kinds().end();
 }
 
-template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file) {
+template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
+                                    const std::string& run_state) {
   Configuration<dim> c;
   c.cell = ctx.system.cell;
   c.particles = ctx.system.particles;
@@ -28,7 +29,8 @@ template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem:
   c.meta.stage_index = ctx.stage_index;
   c.meta.stage_name = ctx.stage_name;
   c.meta.deck_text = ctx.deck->text;
-  c.meta.kind = "configuration";
+  c.meta.kind = run_state.empty() ? "configuration" : "checkpoint";
+  c.meta.run_state = run_state;
   write_configuration<dim>(ctx.world, file, c);
 }
 
@@ -41,8 +43,8 @@ template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage&
   return StageReport{};
 }
 
-template void write_state<2>(RunContext<2>&, const std::filesystem::path&);
-template void write_state<3>(RunContext<3>&, const std::filesystem::path&);
+template void write_state<2>(RunContext<2>&, const std::filesystem::path&, const std::string&);
+template void write_state<3>(RunContext<3>&, const std::filesystem::path&, const std::string&);
 template StageReport run_write<2>(RunContext<2>&, const WriteStage&);
 template StageReport run_write<3>(RunContext<3>&, const WriteStage&);
 

@@ -14,6 +14,9 @@ public:
   /// Collective on `world`. The grid has as many ranks along an axis as the cell lengths
   /// suggest (longer axes are cut more), chosen by MPI_Dims_create among the factorisations.
   Decomposition(MPI_Comm world, const Vec<dim>& cell_lengths);
+  /// Collective on `world`: a given grid (a restart on the checkpoint's rank count must cut
+  /// the cell as the interrupted run did, whatever the cell's shape now). prod(dims) = ranks.
+  Decomposition(MPI_Comm world, const std::array<int, dim>& dims);
   ~Decomposition();
   Decomposition(const Decomposition&) = delete;
   Decomposition& operator=(const Decomposition&) = delete;
@@ -32,6 +35,8 @@ public:
   int owner_of(const Vec<dim>& s) const;
 
 private:
+  void create_grid(MPI_Comm world);
+
   MPI_Comm cart_ = MPI_COMM_NULL;
   int rank_ = 0, size_ = 1;
   std::array<int, dim> dims_{}, coords_{};

@@ -1,7 +1,8 @@
 #pragma once
 // Error kinds and checks. Exit codes are part of the user interface (docs/cli.md):
 //   0 success; 1 runtime failure; 2 bad input (deck, command line, unreadable input file);
-//   3 feature not implemented yet.
+//   3 feature not implemented yet; 75 stopped on request after writing a checkpoint
+//   (resubmit with --restart; 75 is EX_TEMPFAIL of sysexits.h: "try again later").
 // Which ranks know about an error matters under MPI (docs/ARCHITECTURE.md, "Errors"):
 // errors known on every rank are thrown from code all ranks run; errors seen on one rank
 // are recorded and all-reduced at a sync point (comm/collective_error.h).
@@ -11,7 +12,13 @@
 
 namespace granpack {
 
-enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitBadInput = 2, kExitNotImplemented = 3 };
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitFailure = 1,
+  kExitBadInput = 2,
+  kExitNotImplemented = 3,
+  kExitCheckpointed = 75,
+};
 
 /// Base of granpack's exceptions; carries the process exit code it maps to.
 class Error : public std::runtime_error {
@@ -34,6 +41,12 @@ public:
 class NotImplemented : public Error {
 public:
   explicit NotImplemented(const std::string& what) : Error(what, kExitNotImplemented) {}
+};
+
+/// Not a failure: the run stopped on a signal after writing a checkpoint (exit code 75).
+class CheckpointedStop : public Error {
+public:
+  explicit CheckpointedStop(const std::string& what) : Error(what, kExitCheckpointed) {}
 };
 
 namespace detail {

@@ -53,6 +53,9 @@ public:
   /// Removes the owned particles at the given indices (any order); ghosts must be cleared.
   /// Order of the remaining particles is not preserved (swap with last).
   void remove_owned(std::vector<std::size_t> indices);
+  /// Puts the owned particles in increasing id order (ghosts must be cleared): a canonical
+  /// order, so that a restarted run sums forces in the same order as the interrupted one.
+  void sort_owned_by_id();
   Particle<dim> get(std::size_t i) const;
   void set(std::size_t i, const Particle<dim>& p);
   /// Zeroes force and torque of every particle (owned and ghost).

@@ -15,6 +15,7 @@ struct EquilibriumTolerances {
   double force = 1e-4;    ///< max net elastic force on a grain / force scale
   double stress = 1e-4;   ///< max |sigma_aa - Sigma_a| / stress scale
   double kinetic = 1e-8;  ///< kinetic energy per grain / energy scale
+  friend bool operator==(const EquilibriumTolerances&, const EquilibriumTolerances&) = default;
 };
 
 /// Measured values, already normalised by the scales.

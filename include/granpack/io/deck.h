@@ -21,6 +21,7 @@ struct SampleSpec {
   std::string distribution = "monodisperse";  ///< or "uniform": d uniform in [ratio a, a]
   double min_diameter_ratio = 0.5;
   std::uint64_t seed = 1;
+  friend bool operator==(const SampleSpec&, const SampleSpec&) = default;
 };
 
 struct MaterialSpec {
@@ -32,11 +33,13 @@ struct MaterialSpec {
   double tangential_stiffness_ratio = 0;  ///< K_T/K_N (linear; hertz uses (2-2nu)/(2-nu))
   double friction = 0;                ///< mu, may be inf
   double damping = 0;                 ///< zeta, fraction of critical damping
+  friend bool operator==(const MaterialSpec&, const MaterialSpec&) = default;
 };
 
 struct NumericsSpec {
   double time_step_fraction = 0.02;  ///< dt / (contact duration of the stiffest contact)
   double skin = 0.1;                 ///< Verlet skin, fraction of the largest diameter
+  friend bool operator==(const NumericsSpec&, const NumericsSpec&) = default;
 };
 
 struct OutputSpec {
@@ -44,6 +47,7 @@ struct OutputSpec {
   bool quiet = false;
   std::int64_t checkpoint_every_steps = 0;   ///< 0: off
   double checkpoint_every_seconds = 3600.0;  ///< wall seconds; 0: off
+  friend bool operator==(const OutputSpec&, const OutputSpec&) = default;
 };
 
 
@@ -51,9 +55,11 @@ struct LatticeStage {
   std::string lattice;  ///< "fcc" (3D) or "hex" (2D triangular)
   double phi = 0;       ///< solid fraction of the lattice
   std::vector<std::int64_t> cells;  ///< unit cells per axis (n = 4 prod in fcc, 2 prod in hex)
+  friend bool operator==(const LatticeStage&, const LatticeStage&) = default;
 };
 struct RandomStage {
   double phi = 0;  ///< solid fraction of the non-overlapping random placement
+  friend bool operator==(const RandomStage&, const RandomStage&) = default;
 };
 struct CompressStage {
   double pressure = 0;                  ///< Pa: mean of the prescribed stresses (scales, kappa)
@@ -66,21 +72,26 @@ struct CompressStage {
   /// one does not (0: never). [AR] sec. III checks stability by zeroing the velocities.
   std::int64_t quench_interval = 0;
   EquilibriumTolerances tolerance;  ///< [AR] sec. III criteria
+  friend bool operator==(const CompressStage&, const CompressStage&) = default;
 };
 struct SetStage {
   std::optional<double> friction, damping;
+  friend bool operator==(const SetStage&, const SetStage&) = default;
 };
 struct WriteStage {
   std::string file;  ///< relative to the output directory
+  friend bool operator==(const WriteStage&, const WriteStage&) = default;
 };
 /// Starts from a configuration file written by granpack (grains, contacts, cell).
 struct ReadStage {
   std::string file;  ///< path as given (relative to the working directory)
+  friend bool operator==(const ReadStage&, const ReadStage&) = default;
 };
 /// Event-driven hard-sphere gas at fixed volume ([AR] sec. III melting, sec. IV B mixing).
 struct EdGasStage {
   double collisions_per_grain = 0;  ///< n_coll: stop after n_coll * n collisions
   std::uint64_t seed = 0;           ///< Maxwell velocity draw
+  friend bool operator==(const EdGasStage&, const EdGasStage&) = default;
 };
 /// Lubachevsky-Stillinger growth to a solid fraction ([AR] A' samples).
 struct LsCompressStage {
@@ -89,10 +100,12 @@ struct LsCompressStage {
   double rescale_every = 1.0;  ///< collisions per grain between kinetic-energy resets
   std::vector<double> report_phi = {0.49, 0.58};  ///< collisions per grain counted between these
   std::uint64_t seed = 0;
+  friend bool operator==(const LsCompressStage&, const LsCompressStage&) = default;
 };
 /// Homothetic expansion of the cell and the grain centres by a factor lambda ([AR] C).
 struct ExpandStage {
   double factor = 1;
+  friend bool operator==(const ExpandStage&, const ExpandStage&) = default;
 };
 /// Quasistatic compression: `count` compress stages at P_k = P_0 factor^k, k = 1..count, P_0
 /// the pressure of the previous compress stage; each level is equilibrated and recorded.
@@ -101,6 +114,7 @@ struct PressureStepsStage {
   std::int64_t count = 0;
   bool write = true;       ///< write each equilibrated level to <name>_<k>.h5
   CompressStage compress;  ///< controls (inertia_max, cell_mass, max_steps, tolerances)
+  friend bool operator==(const PressureStepsStage&, const PressureStepsStage&) = default;
 };
 /// Treatment II of [AR] sec. III C: backbone frozen, rattlers pushed by small random forces
 /// onto it (frictionless) until they rest in equilibrium.
@@ -110,6 +124,7 @@ struct FixRattlersStage {
   std::int64_t max_steps = 0;
   std::uint64_t seed = 0;
   std::optional<double> pressure;  ///< P for the push scale (default: the last compress's)
+  friend bool operator==(const FixRattlersStage&, const FixRattlersStage&) = default;
 };
 
 using StageParams = std::variant<LatticeStage, RandomStage, CompressStage, SetStage, WriteStage,
@@ -121,6 +136,7 @@ struct StageSpec {
   std::string kind;  ///< one of stage_kinds()
   std::string name;  ///< user label (defaults to kind)
   StageParams params;
+  friend bool operator==(const StageSpec&, const StageSpec&) = default;
 };
 
 struct Deck {

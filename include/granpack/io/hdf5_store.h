@@ -36,6 +36,9 @@ struct FileMeta {
   std::string stage_name;
   std::string deck_text;              ///< the deck the run was started from, verbatim
   std::string kind = "configuration"; ///< "configuration" | "checkpoint"
+  /// Checkpoints only: the run's state beyond the grains (stage, stage-internal state,
+  /// completed stage reports) as JSON text (docs/long-jobs.md); empty otherwise.
+  std::string run_state;
 };
 
 /// What one rank writes or reads: the cell, its particles (owned only; ghosts are never

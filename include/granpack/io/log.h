@@ -13,8 +13,9 @@ class Log {
 public:
   /// `is_root`: whether this rank writes; `quiet`: drop progress lines.
   Log(bool is_root, bool quiet) : root_(is_root), quiet_(quiet) {}
-  /// Also append every line to this file (rank 0 only; created or truncated).
-  void open_file(const std::string& path);
+  /// Also append every line to this file (rank 0 only; created, or truncated unless
+  /// `append`: a restarted run continues the interrupted run's log).
+  void open_file(const std::string& path, bool append = false);
   void info(const std::string& line) { emit(line, false); }
   void progress(const std::string& line) {
     if (!quiet_) emit(line, false);

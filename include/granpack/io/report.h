@@ -48,6 +48,11 @@ struct RunReport {
   double wall_seconds = 0;
 };
 
+/// One stage entry as JSON text (the report.json schema) and back: checkpoints carry the
+/// entries of the completed stages so that a restarted run's report.json is whole.
+std::string stage_report_json(const StageReport& s);
+StageReport stage_report_from_json(const std::string& text);
+
 /// The JSON text of a report (2-space indent).
 std::string to_json(const RunReport& r);
 /// Writes path atomically (temporary name, then rename). Call on one rank.

@@ -27,6 +27,9 @@ template <int dim> struct MdSettings {
   CellControl<dim> cell;     ///< used when stress_control
   /// Largest overlap h / min(R_i, R_j) accepted before the run stops with a diagnosis.
   double max_overlap = 0.1;
+  /// Largest displacement of a grain in one step, as a fraction of the skin, before the run
+  /// stops with a diagnosis (a grain jumping that far resolves no collision: blow-up).
+  double max_step_displacement = 1.0;
   /// When set (fix_rattlers), only the grains whose ids are in this sorted list move; the
   /// others are held at rest. Mobile grains also feel body_force(id) if it is set.
   const std::vector<GlobalId>* mobile = nullptr;
@@ -40,6 +43,7 @@ template <int dim> struct MdObservables {
   double kinetic_energy = 0;                         ///< J (translational + rotational)
   std::int64_t contacts = 0;                         ///< interacting pairs
   double max_overlap = 0;                            ///< largest h / min(R_i, R_j)
+  double max_step_displacement = 0;                  ///< largest |v| dt of the step, m
 };
 
 template <int dim> class MdEngine {
@@ -59,10 +63,16 @@ public:
   MdSettings<dim>& settings() { return settings_; }
 
 private:
-  void rebuild();
+  /// canonical: also put the owned grains in id order (engine start, checkpoints).
+  void rebuild(bool canonical);
+  /// Second half of a step: forces, sanity, half-kick, time. Also completes the step a
+  /// checkpoint interrupted, on restart.
+  void finish_step();
   /// Stops every rank with a diagnosis (grain, step, likely fix) on NaN/Inf or an excessive
   /// overlap. Collective; costs nothing unless something is wrong.
   void check_sanity();
+  /// DIR/postmortem.h5: the bad state, for the user to inspect (collective, never throws).
+  void write_postmortem();
   void forces_and_observables();
   /// Holds the non-mobile grains at rest and adds the body forces (settings_.mobile).
   void hold_and_push();

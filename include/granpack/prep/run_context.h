@@ -4,8 +4,11 @@
 // the kernels and communication in comm/.
 #include <mpi.h>
 
+#include <deque>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "granpack/comm/decomposition.h"
@@ -13,6 +16,7 @@
 #include "granpack/io/deck.h"
 #include "granpack/io/log.h"
 #include "granpack/io/report.h"
+#include "granpack/prep/checkpoint.h"
 
 namespace granpack {
 
@@ -33,8 +37,40 @@ template <int dim> struct RunContext {
   std::vector<bool> fixed;
   double pressure = 0;
 
+  /// Checkpoints (null: none are written, e.g. in tests that drive stages directly).
+  Checkpointer* checkpointer = nullptr;
+  /// State of the stages in progress, outermost first, for a checkpoint taken inside a
+  /// stage; a stage that can be resumed pushes a frame for its lifetime (StageFrame).
+  std::vector<std::function<nlohmann::json()>> frames;
+  /// Restart inside a stage: the frames to resume, outermost first; each stage takes the
+  /// front one. resume_mid_step: the first MD engine completes the interrupted time step.
+  std::deque<nlohmann::json> resume;
+  bool resume_mid_step = false;
+
+  /// Takes the resume frame of the stage starting now (empty json if not resuming).
+  nlohmann::json take_resume_frame() {
+    if (resume.empty()) return {};
+    nlohmann::json f = std::move(resume.front());
+    resume.pop_front();
+    return f;
+  }
+
   /// Solid fraction: sum of grain volumes (areas in 2D) over the cell's. Collective.
   double solid_fraction() const;
+};
+
+/// Registers a stage's state provider for checkpoints while the stage runs.
+template <int dim> class StageFrame {
+public:
+  StageFrame(RunContext<dim>& ctx, std::function<nlohmann::json()> f) : ctx_(ctx) {
+    ctx_.frames.push_back(std::move(f));
+  }
+  ~StageFrame() { ctx_.frames.pop_back(); }
+  StageFrame(const StageFrame&) = delete;
+  StageFrame& operator=(const StageFrame&) = delete;
+
+private:
+  RunContext<dim>& ctx_;
 };
 
 }  // namespace granpack

@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include <filesystem>
+#include <cstdint>
 #include <optional>
 
 namespace granpack {
@@ -12,6 +13,11 @@ struct RunOptions {
   std::filesystem::path deck;
   std::filesystem::path output_dir;  ///< empty: out/<deck stem>
   std::optional<std::filesystem::path> restart;
+  /// Restart: let the stages after the one in progress differ from the checkpoint's deck.
+  bool allow_deck_change = false;
+  /// Override the deck's [output] checkpoint_every_steps / checkpoint_every_seconds.
+  std::optional<std::int64_t> checkpoint_every_steps;
+  std::optional<double> checkpoint_every_seconds;
   bool quiet = false;
 };
 

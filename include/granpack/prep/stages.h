@@ -24,7 +24,9 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
 /// Removes the overlaps of randomly placed grains (fixed cell, soft repulsion, quench).
 template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx);
 
-/// Writes the current state as an HDF5 configuration file (with its XDMF sidecar).
-template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file);
+/// Writes the current state as an HDF5 configuration file (with its XDMF sidecar); with a
+/// run_state (prep/checkpoint.h) the file is a checkpoint.
+template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
+                                    const std::string& run_state = {});
 
 }  // namespace granpack

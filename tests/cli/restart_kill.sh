@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# Checkpoint/restart on the same rank count is exact, and checkpoints survive kill -9.
+#  1. Run a short deck (random gas -> compress -> two pressure steps) uninterrupted on 2
+#     ranks with a checkpoint every 150 steps.
+#  2. Run it again, but kill -9 every rank at random instants (seeded), many times: after each
+#     kill the newest checkpoint.h5 must be readable (`granpack info`), and the run goes on
+#     with --restart from it (or from scratch if no checkpoint was written yet).
+#  3. The final.h5 of the killed-and-restarted chain equals the uninterrupted one bit for bit
+#     (tests/support/same_state.py; particles sorted by id, contacts by key).
+# Kills that landed while a checkpoint was being written are counted (the temp file was
+# there): the previous checkpoint must still be the readable one.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+scratch=$(mktemp -d)
+trap 'pkill -9 -f -- "$scratch/" 2>/dev/null; rm -rf "$scratch"' EXIT
+RANDOM=2026
+deck=$scratch/restart.toml
+sed -e 's/^log_every = .*/log_every = 500/' "$GRANPACK_SOURCE_DIR/jobs/decks/ci/gas_small.toml" > "$deck"
+sed -i 's/^inertia_max = 1.0e-2$/inertia_max = 1.0e-2\nmax_steps = 6000/' "$deck"
+cat >> "$deck" <<'TOML'
+
+[[stage]]
+name = "qs"
+kind = "pressure_steps"
+factor = 1.5
+count = 3
+inertia_max = 1.0e-2
+max_steps = 1500
+TOML
+# run OUT [args]: "-o OUT " comes first on the command line, so that pkill can find the run.
+run() { local o=$1; shift; mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$o" --checkpoint-every-steps 150 --checkpoint-every-seconds 0 -q "$@"; }
+
+if ! run "$scratch/whole" > "$scratch/whole.txt" 2>&1; then
+  echo "FAIL: the uninterrupted run failed"; tail -20 "$scratch/whole.txt"; exit 1
+fi
+
+out=$scratch/chain
+kills=0 during_write=0 restarts=0 fresh=0
+start_leg() {
+  if [ -f "$out/checkpoint.h5" ]; then
+    run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1 &
+    restarts=$((restarts + 1))
+  else
+    run "$out" >> "$scratch/chain.txt" 2>&1 &
+    fresh=$((fresh + 1))
+  fi
+  pid=$!
+}
+# After a kill: the newest checkpoint must be a complete, readable file.
+after_kill() {
+  kills=$((kills + 1))
+  wait $pid 2>/dev/null
+  if [ -f "$out/checkpoint.h5" ] && ! "$GRANPACK_EXE" info "$out/checkpoint.h5" > "$scratch/info.txt" 2>&1; then
+    echo "FAIL: after kill $kills the checkpoint is not readable:"; cat "$scratch/info.txt"; exit 1
+  fi
+}
+# Phase 1: kills at random instants.
+for attempt in $(seq 1 8); do
+  start_leg
+  # 0.5 to 2.5 s: long enough to make progress, short enough to kill most legs.
+  sleep "$(awk -v r=$RANDOM 'BEGIN { printf "%.2f", 0.5 + 2.0 * r / 32767 }')"
+  if ! kill -0 $pid 2>/dev/null; then wait $pid; break; fi   # finished before the kill
+  pkill -9 -f -- "-o $out " 2>/dev/null
+  [ -f "$out/checkpoint.h5.tmp" ] && during_write=$((during_write + 1))
+  after_kill
+done
+# Phase 2: kills aimed at the write itself: as soon as the temporary file appears.
+for attempt in $(seq 1 4); do
+  [ -f "$out/final.h5" ] && break
+  start_leg
+  for _ in $(seq 1 500); do
+    if [ -f "$out/checkpoint.h5.tmp" ]; then
+      pkill -9 -f -- "-o $out " 2>/dev/null; during_write=$((during_write + 1)); break
+    fi
+    kill -0 $pid 2>/dev/null || break
+    sleep 0.01
+  done
+  if kill -0 $pid 2>/dev/null; then pkill -9 -f -- "-o $out " 2>/dev/null; fi
+  after_kill
+done
+if [ ! -f "$out/final.h5" ]; then
+  restarts=$((restarts + 1))
+  if ! run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1; then
+    echo "FAIL: the last restart failed"; tail -20 "$scratch/chain.txt"; exit 1
+  fi
+fi
+echo "kill -9: $kills kills ($during_write while a checkpoint was being written), $restarts restarts, $fresh fresh starts"
+if ! /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$scratch/whole/final.h5" "$out/final.h5"; then
+  echo "restart kill: 0 passed, 1 failed"; tail -30 "$scratch/chain.txt"; exit 1
+fi
+# The restarted run's report has every stage once, in order.
+if ! /usr/bin/python3 - "$scratch/whole/report.json" "$out/report.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+na, nb = [s["name"] for s in a["stages"]], [s["name"] for s in b["stages"]]
+assert na == nb, (na, nb)
+for x, y in zip(a["stages"], b["stages"]):
+    assert x["steps"] == y["steps"] and x["phi"] == y["phi"], (x["name"], x["steps"], y["steps"])
+PY
+then echo "FAIL: report.json of the restarted chain differs"; exit 1; fi
+if [ $kills -lt 6 ] || [ $during_write -lt 2 ]; then
+  echo "FAIL: only $kills kills, $during_write during a write: the test did not test"; exit 1
+fi
+echo "restart kill: 1 passed, 0 failed"
