@@ -424,12 +424,17 @@ Handle open_for_reading(MPI_Comm comm, const FileContext& ctx) {
 }
 
 /// A scalar fixed-length UTF-8 string dataset (parallel HDF5 cannot write variable-length
-/// data), written by rank 0 alone with independent I/O. Collective (dataset creation).
+/// data), written by rank 0 alone with independent I/O. Collective (dataset creation), with
+/// rank 0's text: the creation's metadata must be identical on every rank, or the file is
+/// corrupted silently (a text that differs between ranks, e.g. by a clock reading, once
+/// produced a checkpoint with garbage contact rows).
 void write_text_dataset(const FileContext& ctx, hid_t file, MPI_Comm comm, const char* name,
                         const std::string& text) {
   const std::string what = std::string("dataset /") + name;
+  unsigned long long size = std::max<std::size_t>(text.size(), 1);
+  MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
   auto type = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot create " + what));
-  ctx.rc(H5Tset_size(type, std::max<std::size_t>(text.size(), 1)), "cannot create " + what);
+  ctx.rc(H5Tset_size(type, static_cast<std::size_t>(size)), "cannot create " + what);
   ctx.rc(H5Tset_strpad(type, H5T_STR_NULLPAD), "cannot create " + what);
   ctx.rc(H5Tset_cset(type, H5T_CSET_UTF8), "cannot create " + what);
   auto space = scalar_space(ctx);

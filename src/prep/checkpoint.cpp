@@ -79,8 +79,10 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
   st["frames"] = nlohmann::json::array();
   if (mid_stage)
     for (const auto& f : ctx.frames) st["frames"].push_back(f());
-  st["wall_seconds"] =
-      earlier_wall_seconds + std::chrono::duration<double>(t0 - start_).count();
+  // Rank 0's clock: the run state must be the same text on every rank.
+  double wall = earlier_wall_seconds + std::chrono::duration<double>(t0 - start_).count();
+  MPI_Bcast(&wall, 1, MPI_DOUBLE, 0, world_);
+  st["wall_seconds"] = wall;
   write_state(ctx, policy_.file, st.dump());
   last_ = std::chrono::steady_clock::now();
   ++written_;

@@ -2,11 +2,15 @@
 // deck comparison that refuses unsafe restarts.
 #include <gtest/gtest.h>
 
+#include <mpi.h>
+
 #include <bit>
+#include <filesystem>
 #include <cmath>
 #include <limits>
 
 #include "granpack/core/error.h"
+#include "granpack/io/hdf5_store.h"
 #include "granpack/prep/checkpoint.h"
 
 namespace granpack {
@@ -81,6 +85,57 @@ TEST(CheckpointState, OnlyOutputAndWithTheFlagLaterStagesMayChange) {
   const std::string w = std::string(kDeck).replace(text.find("a.h5"), 4, "b.h5");
   EXPECT_NE(message_of(a, parse_deck(w, "b.toml"), s, false).find("allow-deck-change"), std::string::npos);
   EXPECT_EQ(message_of(a, parse_deck(w, "b.toml"), s, true), "");
+}
+
+}  // namespace
+}  // namespace granpack
+
+namespace granpack {
+namespace {
+
+// Regression: /run_state whose text differs between ranks (it once held each rank's own
+// clock) made the collective dataset creation inconsistent and corrupted contact rows.
+// The file must hold rank 0's text and every contact intact.
+TEST(CheckpointState, RunStateDifferingBetweenRanksLeavesAValidFile) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  Configuration<3> c;
+  c.cell.length = Vec<3>::Constant(1e-2);
+  c.cell.rate = Vec<3>::Zero();
+  const GlobalId base = 10 * rank;
+  for (GlobalId k = 0; k < 4; ++k) {
+    Particle<3> p;
+    p.id = base + k;
+    p.radius = 5e-4;
+    p.mass = 1e-6;
+    p.inertia = 1e-13;
+    p.position = Vec<3>::Constant(0.1 + 0.2 * double(k));
+    c.particles.add_owned(p);
+  }
+  for (GlobalId k = 0; k + 1 < 4; ++k) {
+    ContactState<3> s;
+    s.normal_force = 1.0 + double(base + k);
+    s.age = 7 + base + k;
+    c.contacts.insert(ContactKey{base + k, base + k + 1}, s);
+  }
+  c.meta.deck_text = "deck";
+  c.meta.kind = "checkpoint";
+  c.meta.run_state = "{\"rank\": \"" + std::string(std::size_t(5 + 40 * rank), 'x') + "\"}";
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "granpack_run_state_test.h5";
+  write_configuration<3>(MPI_COMM_WORLD, file, c);
+  const FileMeta meta = read_file_meta(MPI_COMM_SELF, file);
+  EXPECT_EQ(meta.run_state, "{\"rank\": \"xxxxx\"}");
+  Configuration<3> back = read_configuration<3>(MPI_COMM_SELF, file);
+  ASSERT_EQ(back.contacts.size(), std::size_t(3 * size));
+  for (std::size_t k = 0; k < back.contacts.size(); ++k) {
+    const ContactKey key = back.contacts.key(k);
+    EXPECT_EQ(key.second, key.first + 1);
+    EXPECT_EQ(back.contacts.state(k).normal_force, 1.0 + double(key.first));
+    EXPECT_EQ(back.contacts.state(k).age, 7 + key.first);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove(file);
 }
 
 }  // namespace
