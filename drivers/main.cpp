@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
   auto* analyze_cmd = app.add_subcommand("analyze", "geometric and mechanical analysis of a packing");
   analyze_cmd->add_option("file", file, "configuration file (.h5)")->required();
   analyze_cmd->add_option("--json", json_out, "also write the results as JSON to this file");
+  std::string h5_out;
+  analyze_cmd->add_option("--h5", h5_out, "also write the results as HDF5 (curves, histograms as datasets)");
   granpack::PairOptions pair_opts;
   analyze_cmd->add_option("--gr-max", pair_opts.r_max, "range of g(r) in diameters (default 3)")
       ->check(CLI::Range(1.5, 100.0));
@@ -87,6 +89,7 @@ int main(int argc, char** argv) {
       a.file = file;
       a.pairs = pair_opts;
       if (!json_out.empty()) a.json = json_out;
+      if (!h5_out.empty()) a.hdf5 = h5_out;
       granpack::analyze_file(MPI_COMM_WORLD, a);
     } else if (*stiffness_cmd) {
       throw granpack::NotImplemented("'granpack stiffness' is not implemented yet (issue 6)");

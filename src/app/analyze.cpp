@@ -7,6 +7,7 @@
 
 #include "granpack/app/analysis_sections.h"
 #include "granpack/io/hdf5_store.h"
+#include "granpack/io/json_hdf5.h"
 #include "granpack/io/report.h"
 
 namespace granpack {
@@ -102,6 +103,7 @@ std::string analyze_file(MPI_Comm world, const AnalyzeOptions& options) {
   if (rank == 0) {
     std::cout << table(j);
     if (options.json) write_text_atomically(*options.json, j.dump(2) + "\n");
+    if (options.hdf5) write_json_as_hdf5(*options.hdf5, j);
   }
   return j.dump();
 }

@@ -27,6 +27,7 @@ done
 # granpack analyze of the C packing on 1 and 2 ranks (compared below).
 for np in 1 2; do
   if ! mpiexec -n $np "$GRANPACK_EXE" analyze "$scratch/AC_small/final.h5" --json "$scratch/analysis_np$np.json" \
+       --h5 "$scratch/analysis_np$np.h5" \
        > "$scratch/analyze_np$np.txt" 2>&1; then
     echo "FAIL: analyze on $np rank(s):"; tail -20 "$scratch/analyze_np$np.txt"; exit 1
   fi
@@ -97,6 +98,13 @@ an = json.load(open(f"{d}/analysis_np2.json"))
 check(f"analyze z* {an['z_star']} != report {C['z_star']}", abs(an["z_star"] - C["z_star"]) < 1e-12)
 # eq. (22) neglects the deflections (h/a ~ 1e-2 at kappa = 1000): a percent-level check.
 check(f"eq. (22) relative error {an['eq22_relative_error']}", abs(an["eq22_relative_error"]) < 0.02)
+# --h5: the curves as datasets, the same numbers as the JSON.
+import h5py
+with h5py.File(f"{d}/analysis_np2.h5", "r") as h:
+    for path in ("g_r/g_I", "g_r/r_over_a", "z_h/z_III", "P_f/pdf"):
+        group, key = path.split("/")
+        check(f"analyze --h5 {path} differs from the JSON", list(h[path][:]) == an[group][key])
+    check("analyze --h5 z_star attribute", h.attrs["z_star"] == an["z_star"])
 for f in fails: print("FAIL:", f)
 print(f"states_small: {checks - len(fails)} passed, {len(fails)} failed")
 sys.exit(1 if fails else 0)

@@ -14,6 +14,8 @@ namespace granpack {
 struct AnalyzeOptions {
   std::filesystem::path file;
   std::optional<std::filesystem::path> json;  ///< also write the results here
+  /// also write them as HDF5 (curves and histograms as datasets; io/json_hdf5.h)
+  std::optional<std::filesystem::path> hdf5;
   /// Force-carrying threshold as a fraction of a^2 P (a^(dim-1) P in 2D), P the measured
   /// pressure: the [AR] equilibrium tolerance, below which forces are not resolved.
   double threshold = 1e-4;
