@@ -1,5 +1,6 @@
 #include "granpack/io/deck.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -14,6 +15,65 @@ namespace granpack {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A deck needs 2 levels of arrays/inline tables and no dotted keys; this is generous.
+constexpr int kMaxNesting = 64;
+
+/// toml11 3.7 parses nested arrays and inline tables recursively (about 10^4 levels overflow
+/// the stack: a crash) and dotted keys in quadratic time (10^5 parts: minutes). Refuse such
+/// nesting before parsing. A light scan: strings and comments are skipped, brackets and braces
+/// counted, and the dots of a key path counted until the next '=', ',', bracket or line end.
+void check_nesting(const std::string& text, const std::string& file) {
+  int depth = 0, dots = 0;
+  std::size_t line = 1, i = 0;
+  const std::size_t n = text.size();
+  auto fail = [&] {
+    throw InputError(file + ":" + std::to_string(line) +
+                     ": arrays, inline tables or dotted keys nested more than " +
+                     std::to_string(kMaxNesting) + " levels deep (see docs/deck.md)");
+  };
+  while (i < n) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line, ++i, dots = 0;
+    } else if (c == '#') {
+      while (i < n && text[i] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {
+      const bool multi = text.compare(i, 3, std::string(3, c)) == 0;
+      const std::size_t quote = multi ? 3 : 1;
+      i += quote;
+      while (i < n) {
+        if (text[i] == '\n') {
+          ++line;
+          if (!multi) break;  // unterminated: the parser reports it
+        }
+        if (c == '"' && text[i] == '\\' && i + 1 < n) {
+          if (text[i + 1] == '\n') ++line;
+          i += 2;
+          continue;
+        }
+        if (text.compare(i, quote, std::string(quote, c)) == 0) {
+          i += quote;
+          break;
+        }
+        ++i;
+      }
+    } else {
+      if (c == '[' || c == '{') {
+        if (++depth > kMaxNesting) fail();
+        dots = 0;
+      } else if (c == ']' || c == '}') {
+        depth = std::max(depth - 1, 0);
+        dots = 0;
+      } else if (c == '=' || c == ',') {
+        dots = 0;
+      } else if (c == '.' && ++dots > kMaxNesting) {
+        fail();
+      }
+      ++i;
+    }
+  }
+}
 
 const toml::value& sub_table(const toml::value& root, const std::string& file,
                              const std::string& name, bool required) {
@@ -161,9 +221,12 @@ void read_compress_controls(TableReader& rk, CompressStage& c) {
 }
 
 std::uint64_t read_seed(TableReader& rk, const SampleSpec& sample, int index) {
+  // The default is computed unsigned: [sample] seed may be as large as INT64_MAX, and the
+  // signed sum overflowed (undefined behaviour; in practice a negative seed).
+  if (!rk.has("seed"))
+    return sample.seed + 1000 + static_cast<std::uint64_t>(index);
   return static_cast<std::uint64_t>(
-      rk.integer_or("seed", static_cast<std::int64_t>(sample.seed) + 1000 + index,
-                    Range::non_negative(), "random seed of the stage"));
+      rk.integer("seed", Range::non_negative(), "random seed of the stage"));
 }
 
 StageSpec read_stage(const toml::value& v, int index, const std::string& file,
@@ -218,7 +281,7 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
       if (ok)
         for (const auto& e : arr.as_array()) {
           double x = e.is_floating() ? e.as_floating() : e.is_integer() ? double(e.as_integer()) : -1;
-          ok = ok && x > 0 && std::isfinite(x);
+          ok = ok && x > 0 && std::isfinite(x) && number_is_exact(e);
           c.stress.push_back(x);
         }
       if (!ok)
@@ -332,6 +395,7 @@ Deck parse_deck(const std::string& text, const std::string& file_name) {
   deck.file = file_name;
   deck.text = text;
   toml::value root;
+  check_nesting(text, file_name);
   try {
     std::istringstream is(text);
     root = toml::parse(is, file_name);
