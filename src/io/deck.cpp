@@ -19,11 +19,16 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// A deck needs 2 levels of arrays/inline tables and no dotted keys; this is generous.
 constexpr int kMaxNesting = 64;
 
-/// toml11 3.7 parses nested arrays and inline tables recursively (about 10^4 levels overflow
-/// the stack: a crash) and dotted keys in quadratic time (10^5 parts: minutes). Refuse such
-/// nesting before parsing. A light scan: strings and comments are skipped, brackets and braces
-/// counted, and the dots of a key path counted until the next '=', ',', bracket or line end.
-void check_nesting(const std::string& text, const std::string& file) {
+/// toml11 3.7 sums the digits of a 0b literal in a signed 64-bit integer whose place value
+/// overflows at the 63rd digit (undefined behaviour).
+constexpr int kMaxBinaryDigits = 62;
+
+/// Refuses, before parsing, what toml11 3.7 cannot take: nested arrays and inline tables are
+/// parsed recursively (about 10^4 levels overflow the stack: a crash), dotted keys in
+/// quadratic time (10^5 parts: minutes), long binary literals with undefined behaviour. A
+/// light scan: strings and comments are skipped, brackets and braces counted, the dots of a
+/// key path counted until the next '=', ',', bracket or line end, and 0b digits counted.
+void check_toml11_limits(const std::string& text, const std::string& file) {
   int depth = 0, dots = 0;
   std::size_t line = 1, i = 0;
   const std::size_t n = text.size();
@@ -31,6 +36,12 @@ void check_nesting(const std::string& text, const std::string& file) {
     throw InputError(file + ":" + std::to_string(line) +
                      ": arrays, inline tables or dotted keys nested more than " +
                      std::to_string(kMaxNesting) + " levels deep (see docs/deck.md)");
+  };
+  auto binary_digits = [&](std::size_t at) {  // at: just after "0b"
+    int digits = 0;
+    for (; at < n && (text[at] == '0' || text[at] == '1' || text[at] == '_'); ++at)
+      digits += text[at] != '_';
+    return digits;
   };
   while (i < n) {
     const char c = text[i];
@@ -44,11 +55,14 @@ void check_nesting(const std::string& text, const std::string& file) {
       i += quote;
       while (i < n) {
         if (text[i] == '\n') {
+          if (!multi) break;  // unterminated: the parser reports it (the line is counted outside)
           ++line;
-          if (!multi) break;  // unterminated: the parser reports it
         }
         if (c == '"' && text[i] == '\\' && i + 1 < n) {
-          if (text[i + 1] == '\n') ++line;
+          if (text[i + 1] == '\n') {
+            if (!multi) break;
+            ++line;
+          }
           i += 2;
           continue;
         }
@@ -69,6 +83,10 @@ void check_nesting(const std::string& text, const std::string& file) {
         dots = 0;
       } else if (c == '.' && ++dots > kMaxNesting) {
         fail();
+      } else if (c == '0' && i + 1 < n && text[i + 1] == 'b' &&
+                 binary_digits(i + 2) > kMaxBinaryDigits) {
+        throw InputError(file + ":" + std::to_string(line) + ": a binary integer (0b...) of more than " +
+                         std::to_string(kMaxBinaryDigits) + " digits does not fit in a 64-bit integer");
       }
       ++i;
     }
@@ -395,7 +413,7 @@ Deck parse_deck(const std::string& text, const std::string& file_name) {
   deck.file = file_name;
   deck.text = text;
   toml::value root;
-  check_nesting(text, file_name);
+  check_toml11_limits(text, file_name);
   try {
     std::istringstream is(text);
     root = toml::parse(is, file_name);
