@@ -1,5 +1,6 @@
 #include "granpack/io/deck.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -14,6 +15,83 @@ namespace granpack {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A deck needs 2 levels of arrays/inline tables and no dotted keys; this is generous.
+constexpr int kMaxNesting = 64;
+
+/// toml11 3.7 sums the digits of a 0b literal in a signed 64-bit integer whose place value
+/// overflows at the 63rd digit (undefined behaviour).
+constexpr int kMaxBinaryDigits = 62;
+
+/// Refuses, before parsing, what toml11 3.7 cannot take: nested arrays and inline tables are
+/// parsed recursively (about 10^4 levels overflow the stack: a crash), dotted keys in
+/// quadratic time (10^5 parts: minutes), long binary literals with undefined behaviour. A
+/// light scan: strings and comments are skipped, brackets and braces counted, the dots of a
+/// key path counted until the next '=', ',', bracket or line end, and 0b digits counted.
+void check_toml11_limits(const std::string& text, const std::string& file) {
+  int depth = 0, dots = 0;
+  std::size_t line = 1, i = 0;
+  const std::size_t n = text.size();
+  auto fail = [&] {
+    throw InputError(file + ":" + std::to_string(line) +
+                     ": arrays, inline tables or dotted keys nested more than " +
+                     std::to_string(kMaxNesting) + " levels deep (see docs/deck.md)");
+  };
+  auto binary_digits = [&](std::size_t at) {  // at: just after "0b"
+    int digits = 0;
+    for (; at < n && (text[at] == '0' || text[at] == '1' || text[at] == '_'); ++at)
+      digits += text[at] != '_';
+    return digits;
+  };
+  while (i < n) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line, ++i, dots = 0;
+    } else if (c == '#') {
+      while (i < n && text[i] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {
+      const bool multi = text.compare(i, 3, std::string(3, c)) == 0;
+      const std::size_t quote = multi ? 3 : 1;
+      i += quote;
+      while (i < n) {
+        if (text[i] == '\n') {
+          if (!multi) break;  // unterminated: the parser reports it (the line is counted outside)
+          ++line;
+        }
+        if (c == '"' && text[i] == '\\' && i + 1 < n) {
+          if (text[i + 1] == '\n') {
+            if (!multi) break;
+            ++line;
+          }
+          i += 2;
+          continue;
+        }
+        if (text.compare(i, quote, std::string(quote, c)) == 0) {
+          i += quote;
+          break;
+        }
+        ++i;
+      }
+    } else {
+      if (c == '[' || c == '{') {
+        if (++depth > kMaxNesting) fail();
+        dots = 0;
+      } else if (c == ']' || c == '}') {
+        depth = std::max(depth - 1, 0);
+        dots = 0;
+      } else if (c == '=' || c == ',') {
+        dots = 0;
+      } else if (c == '.' && ++dots > kMaxNesting) {
+        fail();
+      } else if (c == '0' && i + 1 < n && text[i + 1] == 'b' &&
+                 binary_digits(i + 2) > kMaxBinaryDigits) {
+        throw InputError(file + ":" + std::to_string(line) + ": a binary integer (0b...) of more than " +
+                         std::to_string(kMaxBinaryDigits) + " digits does not fit in a 64-bit integer");
+      }
+      ++i;
+    }
+  }
+}
 
 const toml::value& sub_table(const toml::value& root, const std::string& file,
                              const std::string& name, bool required) {
@@ -161,9 +239,12 @@ void read_compress_controls(TableReader& rk, CompressStage& c) {
 }
 
 std::uint64_t read_seed(TableReader& rk, const SampleSpec& sample, int index) {
+  // The default is computed unsigned: [sample] seed may be as large as INT64_MAX, and the
+  // signed sum overflowed (undefined behaviour; in practice a negative seed).
+  if (!rk.has("seed"))
+    return sample.seed + 1000 + static_cast<std::uint64_t>(index);
   return static_cast<std::uint64_t>(
-      rk.integer_or("seed", static_cast<std::int64_t>(sample.seed) + 1000 + index,
-                    Range::non_negative(), "random seed of the stage"));
+      rk.integer("seed", Range::non_negative(), "random seed of the stage"));
 }
 
 StageSpec read_stage(const toml::value& v, int index, const std::string& file,
@@ -218,7 +299,7 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
       if (ok)
         for (const auto& e : arr.as_array()) {
           double x = e.is_floating() ? e.as_floating() : e.is_integer() ? double(e.as_integer()) : -1;
-          ok = ok && x > 0 && std::isfinite(x);
+          ok = ok && x > 0 && std::isfinite(x) && number_is_exact(e);
           c.stress.push_back(x);
         }
       if (!ok)
@@ -332,6 +413,7 @@ Deck parse_deck(const std::string& text, const std::string& file_name) {
   deck.file = file_name;
   deck.text = text;
   toml::value root;
+  check_toml11_limits(text, file_name);
   try {
     std::istringstream is(text);
     root = toml::parse(is, file_name);

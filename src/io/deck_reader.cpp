@@ -1,5 +1,6 @@
 #include "granpack/io/deck_reader.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -58,6 +59,59 @@ std::string toml_text(const toml::value& v) {
   return s;
 }
 
+namespace {
+/// The source text of a number's token ("" if the value has no source, e.g. built in code).
+std::string token_of(const toml::value& v) {
+  const auto loc = v.location();
+  const std::string& line = loc.line_str();
+  if (loc.column() < 1 || loc.column() - 1 >= line.size()) return "";
+  return line.substr(loc.column() - 1, loc.region());
+}
+
+/// "" if v holds what its token says; otherwise the problem, for a message.
+std::string overflow_problem(const toml::value& v) {
+  if (number_is_exact(v)) return "";
+  return "= " + token_of(v) + " does not fit in " +
+         (v.is_integer() ? "a 64-bit integer" : "a double (largest about 1.8e308)");
+}
+}  // namespace
+
+bool number_is_exact(const toml::value& v) {
+  if (!v.is_integer() && !v.is_floating()) return true;
+  std::string t = token_of(v);
+  std::erase(t, '_');
+  if (t.empty()) return true;
+  bool negative = false;
+  if (t[0] == '+' || t[0] == '-') {
+    negative = t[0] == '-';
+    t.erase(0, 1);
+  }
+  if (v.is_floating()) {
+    // toml11 reads floats with operator>>, which stores +-DBL_MAX on overflow: only that value
+    // can be a clamped one, and it is genuine only if the token itself is in range.
+    const double x = v.as_floating();
+    if (!std::isfinite(x) || std::abs(x) != std::numeric_limits<double>::max()) return true;
+    double y = 0;
+    const auto res = std::from_chars(t.data(), t.data() + t.size(), y);
+    return res.ec == std::errc{};
+  }
+  int base = 10;
+  if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'o' || t[1] == 'b')) {
+    base = t[1] == 'x' ? 16 : t[1] == 'o' ? 8 : 2;
+    t.erase(0, 2);
+  }
+  std::uint64_t magnitude = 0;
+  const auto res = std::from_chars(t.data(), t.data() + t.size(), magnitude, base);
+  if (res.ec != std::errc{} || res.ptr != t.data() + t.size()) return false;
+  const std::uint64_t limit =
+      negative ? std::uint64_t{1} << 63 : std::uint64_t(std::numeric_limits<std::int64_t>::max());
+  if (magnitude > limit) return false;
+  // Also compare with the stored value: toml11 sums binary digits in a signed integer, so a
+  // 64-digit 0b literal wraps instead of clamping.
+  const auto expect = static_cast<std::int64_t>(negative ? 0 - magnitude : magnitude);
+  return expect == v.as_integer();
+}
+
 static const char* type_name(const toml::value& v) {
   switch (v.type()) {
     case toml::value_t::boolean: return "boolean";
@@ -87,7 +141,11 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 bool similar(const std::string& a, const std::string& b) {
-  return edit_distance(a, b) <= std::max<std::size_t>(1, std::min(a.size(), b.size()) / 4);
+  const std::size_t limit = std::max<std::size_t>(1, std::min(a.size(), b.size()) / 4);
+  // The distance is at least the length difference: skip the quadratic computation for a
+  // (possibly megabyte-long) key that cannot be a misspelling.
+  const std::size_t diff = a.size() > b.size() ? a.size() - b.size() : b.size() - a.size();
+  return diff <= limit && edit_distance(a, b) <= limit;
 }
 }  // namespace
 
@@ -130,6 +188,8 @@ void TableReader::fail_missing(const std::string& key, const std::string& what) 
 
 double TableReader::to_double(const std::string& key, const toml::value& v,
                               const std::string& what) {
+  if (const std::string problem = overflow_problem(v); !problem.empty())
+    fail(key, problem + " (" + what + ")");
   if (v.is_integer()) return static_cast<double>(v.as_integer());
   if (v.is_floating()) return v.as_floating();
   fail(key, "= " + toml_text(v) + " is a " + type_name(v) + ", expected a number (" + what + ")");
@@ -158,6 +218,8 @@ std::int64_t TableReader::integer(const std::string& key, Range range, const std
   if (!v) fail_missing(key, what + ", an integer " + range.describe());
   if (!v->is_integer())
     fail(key, "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected an integer (" + what + ")");
+  if (const std::string problem = overflow_problem(*v); !problem.empty())
+    fail(key, problem + " (" + what + ")");
   auto x = v->as_integer();
   if (!range.contains(static_cast<double>(x)))
     fail(key, "= " + toml_text(*v) + " is out of range: " + what + " must be " + range.describe());
@@ -225,6 +287,8 @@ std::optional<std::vector<std::int64_t>> TableReader::integers_opt(const std::st
   for (const auto& e : v->as_array()) {
     if (!e.is_integer() || !range.contains(static_cast<double>(e.as_integer())))
       fail(key, "= " + toml_text(*v) + ": " + expect);
+    if (const std::string problem = overflow_problem(e); !problem.empty())
+      fail(key, problem + " (" + what + ")");
     out.push_back(e.as_integer());
   }
   return out;

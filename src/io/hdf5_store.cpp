@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -181,6 +182,34 @@ T read_attribute(const FileContext& ctx, hid_t obj, const std::string& where, co
   return value;
 }
 
+/// Deflate, the strongest filter HDF5 ships, compresses at most about 1032:1.
+constexpr std::uint64_t kMaxCompression = 1100;
+
+/// A corrupt or forged file may declare datasets of any size: n_particles = 2^40 with datasets
+/// of that shape and no storage behind them reads back as fill values, and the reader would
+/// allocate terabytes. So `bytes` may be read only if the dataset holds them in the file:
+/// all of them when unfiltered (granpack writes contiguous datasets, allocated in full), at
+/// most kMaxCompression times its stored size when compressed (e.g. after h5repack).
+void check_storage(const FileContext& ctx, hid_t dset, const std::string& what,
+                   std::uint64_t bytes) {
+  if (bytes == 0)
+    return;
+  std::error_code ec;
+  const std::uint64_t file_size = std::filesystem::file_size(ctx.path, ec);
+  const std::uint64_t stored = H5Dget_storage_size(dset);
+  auto dcpl =
+      h5::plist_handle(ctx.id(H5Dget_create_plist(dset), "cannot read the layout of " + what));
+  const int filters = H5Pget_nfilters(dcpl);
+  if (filters < 0)
+    ctx.fail("cannot read the filters of " + what, true);
+  const std::uint64_t factor = filters > 0 ? kMaxCompression : 1;
+  if (ec || stored > file_size || bytes / factor > stored)
+    ctx.fail(what + " declares " + std::to_string(bytes) + " bytes of data but the file holds " +
+             std::to_string(stored) + " for it (the file is " +
+             (ec ? std::string("of unknown size") : std::to_string(file_size) + " bytes") +
+             "): corrupt or inconsistent file");
+}
+
 /// Reads a scalar string from an attribute or a dataset, fixed- or variable-length.
 std::string read_string(const FileContext& ctx, hid_t obj, bool is_attribute,
                         const std::string& what) {
@@ -216,6 +245,16 @@ std::string read_string(const FileContext& ctx, hid_t obj, bool is_attribute,
   const std::size_t size = H5Tget_size(type);
   if (size == 0)
     ctx.fail("cannot read " + what, true);
+  // The declared length is allocated below: bound it by what the file holds.
+  if (!is_attribute) {
+    check_storage(ctx, obj, what, size);
+  } else {
+    std::error_code ec;
+    const auto file_size = std::filesystem::file_size(ctx.path, ec);
+    if (ec || size > file_size)
+      ctx.fail(what + " declares a string of " + std::to_string(size) +
+               " bytes, longer than the file: corrupt file");
+  }
   auto mtype = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot read " + what));
   ctx.rc(H5Tset_size(mtype, size), "cannot read " + what);
   ctx.rc(H5Tset_strpad(mtype, H5T_STR_NULLPAD), "cannot read " + what);
@@ -342,6 +381,13 @@ Handle open_rows(const FileContext& ctx, hid_t group, const std::string& gname, 
              fmt(want, static_cast<int>(want.size())) +
              " (from the root attributes n_particles/n_contacts and dimension)");
   }
+  // In the file's element size (an f32 dataset stores 4 bytes per value; HDF5 converts).
+  const std::uint64_t row_bytes = static_cast<std::uint64_t>(std::max(cols, 1)) *
+                                  std::max<std::size_t>(H5Tget_size(type), 1);
+  const auto n_rows = static_cast<std::uint64_t>(rows);
+  const std::uint64_t max_rows = std::numeric_limits<std::uint64_t>::max() / row_bytes;
+  check_storage(ctx, dset, "dataset " + what,
+                n_rows > max_rows ? std::numeric_limits<std::uint64_t>::max() : n_rows * row_bytes);
   return dset;
 }
 
@@ -413,6 +459,11 @@ Handle open_for_reading(MPI_Comm comm, const FileContext& ctx) {
       ctx.fail("cannot be read as HDF5", true);
     if (is_h5 == 0)
       ctx.fail("not an HDF5 file");
+    // Open once with the serial driver first: a corrupt superblock then fails inside HDF5
+    // (silenced; its detail goes into our message) instead of reaching Open MPI's I/O layer,
+    // which prints "mca_fbtl_posix_preadv: error in (p)read(v)" for garbage offsets.
+    h5::file_handle(ctx.id(H5Fopen(ctx.path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
+                           "cannot open as HDF5 (truncated or corrupt?)"));
   });
   Handle file;
   collectively_typed(comm, [&] {
@@ -788,6 +839,16 @@ Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path
       q.velocity = row<Vec<dim>>(vel, i);
       q.angular_velocity = row<RotVec<dim>>(omega, i);
       q.orientation = row<OrientVec<dim>>(orient, i);
+      // What the rest of the code bins grains by: a NaN or far-away scaled position (cast to
+      // a cell index: undefined behaviour) or a non-positive radius (neighbour grid sizes).
+      // Positions between rebuilds may stray a little outside [0, 1), never a cell away.
+      if (!(q.radius > 0) || !std::isfinite(q.radius))
+        ctx.fail("/particles/radius row " + std::to_string(ps.offset + i) + " = " +
+                 std::to_string(q.radius) + " (need a positive finite radius)");
+      for (int a = 0; a < dim; ++a)
+        if (!(q.position[a] > -1.0 && q.position[a] < 2.0))
+          ctx.fail("/particles/scaled_position row " + std::to_string(ps.offset + i) + " = " +
+                   std::to_string(q.position[a]) + " (need a finite scaled position near [0, 1))");
       c.particles.add_owned(q);
     }
     for (std::size_t k = 0; k < nc; ++k) {

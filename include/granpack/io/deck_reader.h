@@ -73,4 +73,9 @@ private:
 /// The TOML text of a value, for messages: 0.3, "fcc", [4, 4, 4].
 std::string toml_text(const toml::value& v);
 
+/// False if v is a number whose TOML token does not fit the stored type: toml11 3.7 silently
+/// clamps an integer beyond 64 bits to INT64_MAX/MIN (binary literals wrap) and a float beyond
+/// DBL_MAX to +-DBL_MAX, which would otherwise be accepted as a valid setting.
+bool number_is_exact(const toml::value& v);
+
 }  // namespace granpack
