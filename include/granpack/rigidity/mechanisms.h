@@ -1,0 +1,42 @@
+#pragma once
+// Mechanisms of the backbone ([AR] sec. II C 2, IV D, App. E): the null space of K(1) (that
+// of G). Known ones are removed explicitly, so that what is left is a positive-definite
+// matrix whose factorisation counts whatever else there is:
+//   - the dim trivial translations: one non-divalent grain's translations are pinned
+//     (rows and columns replaced by <k_n> on the diagonal); every null vector restricted to
+//     that grain is a translation, so pinning removes exactly dim dimensions;
+//   - one free rolling per divalent grain (3D, friction): its exact rolling vector v is
+//     checked to be null (K(1) v = 0) and stiffened by <k_n> v vᵀ, as [AR] attribute "some
+//     energy cost" to these motions; as G v = 0 the border K_eu v = 0 and the response to
+//     strains is unchanged.
+// MUMPS then reports the null pivots (unexpected mechanisms) and the inertia of the grain
+// block; SLEPc gives its smallest eigenvalues by shift-and-invert at 0 on the same factors;
+// the strain mechanisms are the null space of the Schur complement (condensation.h).
+#include <vector>
+
+#include "granpack/rigidity/direct_solver.h"
+#include "granpack/rigidity/stiffness_system.h"
+
+namespace granpack {
+
+struct DivalentGrain {
+  GlobalId grain = 0;
+  GlobalId neighbours[2] = {0, 0};
+};
+
+struct KnownMechanisms {
+  std::vector<DivalentGrain> divalent;
+  double divalent_residual = 0;  ///< |K(1) V| / (<k_n> |V|), V the sum of the rolling modes
+  GlobalId pinned_grain = -1;
+};
+
+/// Checks and stiffens the divalent rolling modes and pins one grain, in both K(1) and K.
+/// Collective.
+template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>& s);
+
+/// The `count` smallest eigenvalues of the factorised symmetric grain block `a`, divided by
+/// <k_n> (SLEPc, Krylov-Schur on the inverse: shift-and-invert at 0 with `solver`'s factors).
+std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int count, double scale,
+                                         double* seconds);
+
+}  // namespace granpack

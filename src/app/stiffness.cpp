@@ -1,0 +1,264 @@
+// `granpack stiffness`: rigidity matrix, stiffness matrix, mechanisms, hyperstaticity and
+// elastic moduli of a packing's backbone (docs/stiffness.md). The linear algebra lives in
+// rigidity/; this file reads the packing, chains the steps and reports.
+#include "granpack/app/stiffness.h"
+
+#ifdef GRANPACK_HAVE_RIGIDITY  // the executable reports NotImplemented without the layer
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "granpack/analysis/force_statistics.h"
+#include "granpack/app/packing_view.h"
+#include "granpack/comm/reduce.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/io/report.h"
+#include "granpack/prep/material_law.h"
+#include "granpack/rigidity/condensation.h"
+#include "granpack/rigidity/mechanisms.h"
+#include "granpack/rigidity/virtual_work.h"
+
+namespace granpack {
+
+namespace {
+
+/// The stress the file's packing was equilibrated under: the last compress stage up to the
+/// file's stage. After pressure_steps (whose level a file does not record) or with no such
+/// stage, the measured elastic stress, and `source` says so.
+template <int dim> Vec<dim> prescribed_stress(const PackingView<dim>& v, int stage_index, std::string& source) {
+  Vec<dim> sigma = v.stress.diagonal();
+  source = "measured";
+  for (const auto& st : v.deck.stages) {
+    if (st.index > stage_index) break;
+    if (const auto* c = std::get_if<CompressStage>(&st.params)) {
+      bool all = true;  // every axis stress-controlled
+      for (int a = 0; a < dim; ++a)
+        if (!c->fixed.empty() && c->fixed[a]) all = false;
+      if (c->stress.size() == std::size_t(dim) && all) {
+        for (int a = 0; a < dim; ++a) sigma[a] = c->stress[a];
+        source = "deck stage " + std::to_string(st.index);
+      }
+    } else if (std::holds_alternative<PressureStepsStage>(st.params)) {
+      sigma = v.stress.diagonal();
+      source = "measured";
+    }
+  }
+  return sigma;
+}
+
+template <int dim> std::vector<GlobalId> gather_rattlers(const PackingView<dim>& v) {
+  std::vector<GlobalId> mine;
+  for (std::size_t i = 0; i < v.particles().n_owned(); ++i)
+    if (v.rattler(i)) mine.push_back(v.particles().id[i]);
+  int size = 1;
+  MPI_Comm_size(v.world, &size);
+  int count = int(mine.size());
+  std::vector<int> counts(size), displs(size, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, v.world);
+  for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  std::vector<GlobalId> all(displs[size - 1] + counts[size - 1]);
+  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), displs.data(), MPI_INT64_T, v.world);
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+/// Z(5/3) over the backbone contacts ([AR] eq. 27), for eq. (30).
+template <int dim> double z_five_thirds(const PackingView<dim>& v) {
+  ForceMomentSums sums({5.0 / 3.0});
+  for (const auto& c : v.contacts)
+    if (on_backbone(v, c)) sums.add(ContactForceSample{c.normal_force, 0, 0, 0, 0});
+  MPI_Allreduce(MPI_IN_PLACE, sums.sums().data(), int(sums.sums().size()), MPI_DOUBLE, MPI_SUM, v.world);
+  const double mean = sums.mean_normal_force();
+  return sums.sums()[3] / sums.contacts() / std::pow(mean, 5.0 / 3.0);
+}
+
+template <int dim> nlohmann::json moduli_json(const Moduli<dim>& m) {
+  std::vector<std::vector<double>> c(dim, std::vector<double>(dim));
+  for (int a = 0; a < dim; ++a)
+    for (int b = 0; b < dim; ++b) c[a][b] = m.stiffness(a, b);
+  return {{"bulk_modulus", m.bulk}, {"shear_modulus_diag", m.shear_diag}, {"c_diagonal_strains", c}};
+}
+
+template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const FileMeta& meta) {
+  const auto start = std::chrono::steady_clock::now();
+  ensure_petsc_initialized();
+  const PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, 1.5);
+  MaterialSpec material = v.deck.material;
+  material.friction = v.friction;
+  const ContactLaw<dim> law = contact_law_of<dim>(material);
+
+  StiffnessSystem<dim> s = assemble_stiffness(v, law);
+  const int g = s.grain_dofs();
+  const double volume = v.system.cell.volume();
+  std::string stress_source;
+  const Vec<dim> sigma = prescribed_stress(v, meta.stage_index, stress_source);
+  const VirtualWork vw = check_virtual_work(s, sigma, volume);
+
+  const KnownMechanisms km = remove_known_mechanisms(s);
+  const DirectSolver chol = factorize(s.k1.uu, true, opt.null_pivot_threshold);
+  double eigen_seconds = 0;
+  const std::vector<double> eig = smallest_eigenvalues(s.k1.uu, chol, opt.eigenvalues, s.mean_kn, &eigen_seconds);
+  const Moduli<dim> m1 = condense<dim>(s.k1, chol, v.system.cell.length, volume, Vec<dim>::Zero());
+  // Strain mechanisms: the null space of the (symmetric) Schur complement of K(1).
+  const Eigen::SelfAdjointEigenSolver<Tensor<dim>> schur_eig(0.5 * (m1.schur + m1.schur.transpose()));
+  int strain_mechanisms = 0;
+  for (int a = 0; a < dim; ++a) strain_mechanisms += schur_eig.eigenvalues()[a] < 1e-9 * s.mean_kn;
+  const DirectSolver lu = factorize(s.k.uu, false, opt.null_pivot_threshold);
+  const Moduli<dim> m = condense<dim>(s.k, lu, v.system.cell.length, volume, Vec<dim>(v.stress.diagonal()));
+
+  // Counts, eq. (19)-(20).
+  const std::int64_t n_star = s.numbering.grains;
+  const std::int64_t k = dim + std::int64_t(km.divalent.size()) + chol.null_pivots + strain_mechanisms;
+  const std::int64_t nf = s.dof();
+  const std::int64_t h = s.layout.rows_per_contact() * s.contacts + k - nf;
+  const Hyperstaticity eq37 = hyperstaticity<dim>(s.contacts, n_star, std::int64_t(km.divalent.size()), s.layout.rotations);
+  const std::vector<GlobalId> rattlers = gather_rattlers(v);
+  const bool positive_definite = chol.null_pivots == 0 && chol.negative_pivots == 0 && strain_mechanisms == 0 &&
+                                 !eig.empty() && eig.front() > 0;
+
+  nlohmann::json j;
+  j["file"] = opt.file.string();
+  j["dimension"] = dim;
+  j["n"] = v.n;
+  j["friction"] = std::isinf(v.friction) ? nlohmann::json("inf") : nlohmann::json(v.friction);
+  j["phi"] = v.phi;
+  j["pressure"] = v.pressure;
+  j["force_threshold"] = v.force_threshold;
+  j["backbone_grains"] = n_star;
+  j["backbone_contacts"] = s.contacts;
+  j["rattlers"] = std::int64_t(rattlers.size());
+  j["grain_dofs"] = g;
+  j["N_f"] = nf;
+  j["G_rows"] = s.layout.rows_per_contact() * s.contacts;
+  j["mechanisms"] = k;
+  j["trivial_mechanisms"] = dim;
+  j["divalent_mechanisms"] = std::int64_t(km.divalent.size());
+  j["other_mechanisms"] = chol.null_pivots;
+  j["strain_mechanisms"] = strain_mechanisms;
+  j["rattler_mechanisms"] = std::int64_t(rattlers.size()) * g;
+  nlohmann::json div = nlohmann::json::array();
+  for (const auto& d : km.divalent) div.push_back({{"grain", d.grain}, {"neighbours", {d.neighbours[0], d.neighbours[1]}}});
+  j["divalent_grains"] = div;
+  j["rattler_grains"] = rattlers;
+  j["divalent_mode_residual"] = km.divalent_residual;
+  j["pinned_grain"] = km.pinned_grain;
+  j["negative_pivots"] = chol.negative_pivots;
+  j["smallest_eigenvalues_over_mean_kn"] = eig;
+  j["H"] = h;
+  j["H_over_Nf"] = double(h) / double(n_star * g);
+  j["H_eq37"] = eq37.degree;
+  j["H_over_Nf_eq37"] = eq37.per_dof;
+  j["isostatic"] = h == 0 && k == dim;
+  j["positive_definite"] = positive_definite;
+  j["virtual_work_residual"] = vw.residual;
+  j["virtual_work_grain_residual"] = vw.grain_residual;
+  j["max_net_grain_force"] = vw.max_grain_force;
+  j["prescribed_stress_source"] = stress_source;
+  std::vector<double> sig(sigma.data(), sigma.data() + dim), sig_f(vw.stress_from_forces.data(), vw.stress_from_forces.data() + dim);
+  j["prescribed_stress"] = sig;
+  j["stress_from_forces"] = sig_f;
+  j["mean_kn"] = s.mean_kn;
+
+  j.update(moduli_json(m));
+  j["constitutive"] = moduli_json(m1);
+  // eq. (30), Hertz monodisperse 3D only: the packing's own z = 2 N_c*/n, Phi and Z(5/3).
+  const auto& mat = v.deck.material;
+  const double z = 2.0 * double(s.contacts) / double(v.n);
+  const double z53 = z_five_thirds(v);
+  j["z"] = z;
+  j["Z_5_3"] = z53;
+  if (dim == 3 && mat.normal_law == "hertz" && v.deck.sample.distribution == "monodisperse") {
+    const double e_tilde = mat.young_modulus / (1 - mat.poisson_ratio * mat.poisson_ratio);
+    const double b30 = 1.0 / (2.0 * z53) * std::pow(z * v.phi / (3.0 * std::numbers::pi), 2.0 / 3.0) *
+                       std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure);
+    j["bulk_modulus_eq30"] = b30;
+    j["bulk_modulus_over_eq30"] = m.bulk / b30;
+    j["bulk_modulus_reduced"] = m.bulk / (std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure));
+  } else {
+    j["bulk_modulus_eq30"] = nullptr;
+  }
+  int size = 1;
+  MPI_Comm_size(world, &size);
+  j["ranks"] = size;
+  j["partition"] = {{"method", s.numbering.metis ? "metis" : "none (one rank)"},
+                    {"edge_cut_metis", s.numbering.edge_cut_metis},
+                    {"edge_cut_spatial", s.numbering.edge_cut_spatial}};
+  j["timings_seconds"] = {{"assembly", s.assembly_seconds},
+                          {"cholesky_K1", chol.seconds},
+                          {"eigensolve", eigen_seconds},
+                          {"condensation_K1", m1.seconds},
+                          {"lu_K", lu.seconds},
+                          {"condensation_K", m.seconds},
+                          {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+  return j;
+}
+
+std::string table(const nlohmann::json& j) {
+  std::string out;
+  char buf[200];
+  auto row = [&](const char* name, const std::string& value) {
+    std::snprintf(buf, sizeof buf, "  %-34s %s\n", name, value.c_str());
+    out += buf;
+  };
+  auto num_s = [](const nlohmann::json& v) {
+    if (v.is_null()) return std::string("-");
+    char b[40];
+    std::snprintf(b, sizeof b, "%.6g", v.get<double>());
+    return std::string(b);
+  };
+  auto int_s = [](const nlohmann::json& v) { return std::to_string(v.get<long long>()); };
+  out += "granpack stiffness: " + j["file"].get<std::string>() + "\n";
+  row("dimension, n, ranks", int_s(j["dimension"]) + ", " + int_s(j["n"]) + ", " + int_s(j["ranks"]));
+  row("friction mu", j["friction"].dump());
+  row("backbone grains, contacts", int_s(j["backbone_grains"]) + ", " + int_s(j["backbone_contacts"]));
+  row("N_f, rows of G", int_s(j["N_f"]) + ", " + int_s(j["G_rows"]));
+  row("virtual work |tG f - F|/|F|", num_s(j["virtual_work_residual"]) + " (grain rows " +
+                                       num_s(j["virtual_work_grain_residual"]) + ", Sigma: " +
+                                       j["prescribed_stress_source"].get<std::string>() + ")");
+  row("mechanisms k", int_s(j["mechanisms"]) + " = " + int_s(j["trivial_mechanisms"]) + " trivial + " +
+                          int_s(j["divalent_mechanisms"]) + " divalent + " + int_s(j["other_mechanisms"]) +
+                          " other + " + int_s(j["strain_mechanisms"]) + " strain");
+  row("rattlers (not in G), their dofs", int_s(j["rattlers"]) + ", " + int_s(j["rattler_mechanisms"]));
+  row("divalent modes |K1 v|/(<k_n>|v|)", num_s(j["divalent_mode_residual"]));
+  std::string eig;
+  for (const auto& e : j["smallest_eigenvalues_over_mean_kn"]) eig += num_s(e) + " ";
+  row("smallest eig. (stiffened)/<k_n>", eig);
+  row("positive definite (stiffened)", j["positive_definite"].get<bool>() ? "yes" : "NO");
+  row("H (eq. 19), H/N_f*", int_s(j["H"]) + ", " + num_s(j["H_over_Nf"]));
+  row("H, H/N_f* from counts (eq. 37)", num_s(j["H_eq37"]) + ", " + num_s(j["H_over_Nf_eq37"]));
+  row("isostatic", j["isostatic"].get<bool>() ? "yes" : "no");
+  row("bulk modulus B (K1+K2) / Pa", num_s(j["bulk_modulus"]));
+  row("B from K1 only / Pa", num_s(j["constitutive"]["bulk_modulus"]));
+  row("B eq. (30) / Pa, ratio", num_s(j["bulk_modulus_eq30"]) + (j.contains("bulk_modulus_over_eq30")
+                                                                     ? ", " + num_s(j["bulk_modulus_over_eq30"]) : ""));
+  row("shear modulus (diag. strains) / Pa", num_s(j["shear_modulus_diag"]));
+  const auto& p = j["partition"];
+  row("edge cut: METIS / spatial", int_s(p["edge_cut_metis"]) + " / " + int_s(p["edge_cut_spatial"]));
+  const auto& t = j["timings_seconds"];
+  row("time: assembly, Cholesky, eig (s)", num_s(t["assembly"]) + ", " + num_s(t["cholesky_K1"]) + ", " + num_s(t["eigensolve"]));
+  row("time: condense K1, LU K, condense", num_s(t["condensation_K1"]) + ", " + num_s(t["lu_K"]) + ", " + num_s(t["condensation_K"]));
+  return out;
+}
+
+}  // namespace
+
+std::string stiffness_file(MPI_Comm world, const StiffnessOptions& options) {
+  const FileMeta meta = read_file_meta(world, options.file);
+  nlohmann::json j = meta.dimension == 3 ? stiffness<3>(world, options, meta) : stiffness<2>(world, options, meta);
+  int rank = 0;
+  MPI_Comm_rank(world, &rank);
+  if (rank == 0) {
+    std::cout << table(j);
+    if (options.json) write_text_atomically(*options.json, j.dump(2) + "\n");
+  }
+  return j.dump();
+}
+
+}  // namespace granpack
+
+#endif  // GRANPACK_HAVE_RIGIDITY
