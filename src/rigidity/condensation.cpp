@@ -5,7 +5,7 @@
 namespace granpack {
 
 template <int dim>
-Moduli<dim> condense(const BorderedMatrix<dim>& b, const DirectSolver& solver, const Vec<dim>& cell,
+Moduli<dim> condense(const BorderedMatrix<dim>& b, const GrainSolve& solve, const Vec<dim>& cell,
                      double volume, const Vec<dim>& stress) {
   const auto start = std::chrono::steady_clock::now();
   Moduli<dim> m;
@@ -13,7 +13,7 @@ Moduli<dim> condense(const BorderedMatrix<dim>& b, const DirectSolver& solver, c
   GRANPACK_PETSC(VecDuplicate(b.ue[0], x.address()));
   m.schur = b.ee;
   for (int beta = 0; beta < dim; ++beta) {
-    solver.solve(b.ue[beta], x);
+    solve(b.ue[beta], x);
     for (int a = 0; a < dim; ++a) {
       PetscScalar dot = 0;
       GRANPACK_PETSC(VecDot(x, b.eu[a], &dot));  // VecDot(x, y) = yᴴ x
@@ -31,7 +31,7 @@ Moduli<dim> condense(const BorderedMatrix<dim>& b, const DirectSolver& solver, c
   return m;
 }
 
-template Moduli<2> condense<2>(const BorderedMatrix<2>&, const DirectSolver&, const Vec<2>&, double, const Vec<2>&);
-template Moduli<3> condense<3>(const BorderedMatrix<3>&, const DirectSolver&, const Vec<3>&, double, const Vec<3>&);
+template Moduli<2> condense<2>(const BorderedMatrix<2>&, const GrainSolve&, const Vec<2>&, double, const Vec<2>&);
+template Moduli<3> condense<3>(const BorderedMatrix<3>&, const GrainSolve&, const Vec<3>&, double, const Vec<3>&);
 
 }  // namespace granpack

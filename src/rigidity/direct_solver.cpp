@@ -1,10 +1,52 @@
 #include "granpack/rigidity/direct_solver.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace granpack {
 
 void DirectSolver::solve(::Vec b, ::Vec x) const { GRANPACK_PETSC(KSPSolve(ksp, b, x)); }
+
+namespace {
+PetscErrorCode apply_factors(PC pc, ::Vec x, ::Vec y) {
+  void* ctx = nullptr;
+  PetscCall(PCShellGetContext(pc, &ctx));
+  PetscCall(KSPSolve(static_cast<const DirectSolver*>(ctx)->ksp, x, y));
+  return 0;
+}
+}  // namespace
+
+void PreconditionedSolver::solve(::Vec b, ::Vec x) {
+  GRANPACK_PETSC(KSPSolve(ksp, b, x));
+  KSPConvergedReason reason;
+  GRANPACK_PETSC(KSPGetConvergedReason(ksp, &reason));
+  PetscInt its = 0;
+  GRANPACK_PETSC(KSPGetIterationNumber(ksp, &its));
+  iterations = std::max<std::int64_t>(iterations, its);
+  GRANPACK_CHECK(reason > 0, "stiffness: GMRES on K = K(1) + K(2) preconditioned by K(1) did not converge (reason "
+                                 << reason << " after " << its << " iterations)");
+}
+
+PreconditionedSolver krylov_with_factors(Mat a, const DirectSolver& factors, double rtol) {
+  MPI_Comm comm = MPI_COMM_NULL;
+  GRANPACK_PETSC(PetscObjectGetComm(reinterpret_cast<PetscObject>(a), &comm));
+  PreconditionedSolver s;
+  s.factors = &factors;
+  GRANPACK_PETSC(KSPCreate(comm, s.ksp.address()));
+  GRANPACK_PETSC(KSPSetOptionsPrefix(s.ksp, "stiffness_k_"));
+  GRANPACK_PETSC(KSPSetOperators(s.ksp, a, a));
+  GRANPACK_PETSC(KSPSetType(s.ksp, KSPGMRES));
+  GRANPACK_PETSC(KSPGMRESSetRestart(s.ksp, 100));
+  GRANPACK_PETSC(KSPSetTolerances(s.ksp, rtol, 0.0, PETSC_DEFAULT, 500));
+  PC pc = nullptr;
+  GRANPACK_PETSC(KSPGetPC(s.ksp, &pc));
+  GRANPACK_PETSC(PCSetType(pc, PCSHELL));
+  GRANPACK_PETSC(PCShellSetContext(pc, const_cast<DirectSolver*>(&factors)));
+  GRANPACK_PETSC(PCShellSetApply(pc, apply_factors));
+  GRANPACK_PETSC(KSPSetFromOptions(s.ksp));
+  GRANPACK_PETSC(KSPSetUp(s.ksp));
+  return s;
+}
 
 DirectSolver factorize(Mat a, bool symmetric, double null_pivot_threshold) {
   const auto start = std::chrono::steady_clock::now();

@@ -60,14 +60,16 @@ std::filesystem::path run_text_deck(const std::string& tag, const std::string& t
 }
 
 /// A small disordered packing: FCC melted by hard-sphere collisions, then compressed at
-/// kappa = 1000 (soft, so that it settles quickly) with friction mu.
+/// kappa = 1000 (soft, so that it settles quickly) with friction mu. Without friction 108
+/// equal spheres recrystallise; diameters uniform in [0.8 a, a], placed at random, stay
+/// disordered.
 std::string small_deck(double mu) {
   return R"([sample]
 dimension = 3
 n = 108
 diameter = 1.0e-3
 seed = 3
-
+)" + std::string(mu > 0 ? "" : "distribution = \"uniform\"\nmin_diameter_ratio = 0.8\n") + R"(
 [material]
 density = 2500.0
 normal_law = "hertz"
@@ -79,12 +81,8 @@ damping = 0.98
 [output]
 log_every = 100000
 
-[[stage]]
-kind = "lattice"
-lattice = "fcc"
-phi = 0.45
-cells = [3, 3, 3]
-
+)" + std::string(mu > 0 ? "[[stage]]\nkind = \"lattice\"\nlattice = \"fcc\"\nphi = 0.45\ncells = [3, 3, 3]\n"
+                         : "[[stage]]\nkind = \"random\"\nphi = 0.35\n") + R"(
 [[stage]]
 kind = "ed_gas"
 collisions_per_grain = 50

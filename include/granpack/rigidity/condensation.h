@@ -6,6 +6,8 @@
 //     c_ab = Kc_ab / Omega [+ Sigma_a, the change of Omega at fixed Sigma, when K(2) is in]
 //     B = sum_ab c_ab / dim^2,  G_diag = (mean c_aa - mean c_{a!=b}) / 2.
 // docs/stiffness.md derives both. Collective.
+#include <functional>
+
 #include "granpack/rigidity/direct_solver.h"
 #include "granpack/rigidity/stiffness_system.h"
 
@@ -20,8 +22,11 @@ template <int dim> struct Moduli {
 };
 
 /// `stress`: the stress the Omega-change term uses (pass zero for K(1) alone).
+/// `solve(rhs, x)`: x = K_uu^{-1} rhs (a factorisation or a preconditioned Krylov solver).
+using GrainSolve = std::function<void(::Vec, ::Vec)>;
+
 template <int dim>
-Moduli<dim> condense(const BorderedMatrix<dim>& b, const DirectSolver& solver, const Vec<dim>& cell,
+Moduli<dim> condense(const BorderedMatrix<dim>& b, const GrainSolve& solve, const Vec<dim>& cell,
                      double volume, const Vec<dim>& stress);
 
 }  // namespace granpack
