@@ -92,6 +92,9 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   material.friction = v.friction;
   const ContactLaw<dim> law = contact_law_of<dim>(material);
 
+  if (v.backbone.metrics.backbone_contacts == 0)  // known on every rank (a global count)
+    throw InputError(opt.file.string() + ": no force-carrying contact (N > " + std::to_string(opt.threshold) +
+                     " a^2 P): there is no backbone to analyse");
   StiffnessSystem<dim> s = assemble_stiffness(v, law);
   const int g = s.grain_dofs();
   const double volume = v.system.cell.volume();
