@@ -12,6 +12,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
 
 #include "granpack/analysis/force_statistics.h"
 #include "granpack/app/packing_view.h"
@@ -112,6 +113,10 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const Eigen::SelfAdjointEigenSolver<Tensor<dim>> schur_eig(0.5 * (m1.schur + m1.schur.transpose()));
   int strain_mechanisms = 0;
   for (int a = 0; a < dim; ++a) strain_mechanisms += schur_eig.eigenvalues()[a] < 1e-9 * s.mean_kn;
+  // Without friction K = K(1) + K(2) is symmetric (central forces): its inertia says whether
+  // the prestress (K(2) is negative there, [AR] App. B) leaves the backbone stable.
+  std::optional<DirectSolver> ldl_k;
+  if (!s.layout.rotations) ldl_k = factorize(s.k.uu, true, opt.null_pivot_threshold);
   // K = K(1) + K(2): GMRES preconditioned by the K(1) factors (no second factorisation).
   PreconditionedSolver gmres = krylov_with_factors(s.k.uu, chol, 1e-13);
   const Moduli<dim> m = condense<dim>(s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, v.system.cell.length,
@@ -161,6 +166,13 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["H_over_Nf_eq37"] = eq37.per_dof;
   j["isostatic"] = h == 0 && k == dim;
   j["positive_definite"] = positive_definite;
+  if (ldl_k) {
+    j["K_negative_pivots"] = ldl_k->negative_pivots;
+    j["K_null_pivots"] = ldl_k->null_pivots;
+    j["K_positive_definite"] = ldl_k->negative_pivots == 0 && ldl_k->null_pivots == 0;
+  } else {
+    j["K_negative_pivots"] = j["K_null_pivots"] = j["K_positive_definite"] = nullptr;
+  }
   j["virtual_work_residual"] = vw.residual;
   j["virtual_work_grain_residual"] = vw.grain_residual;
   j["max_net_grain_force"] = vw.max_grain_force;
@@ -171,6 +183,9 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["mean_kn"] = s.mean_kn;
   j["gmres_iterations_K"] = gmres.iterations;
 
+  // With an unexpected mechanism the factorisation regularised a singular matrix: the
+  // moduli are then numbers without meaning, kept for diagnosis only.
+  j["moduli_valid"] = positive_definite;
   j.update(moduli_json(m));
   j["constitutive"] = moduli_json(m1);
   // eq. (30), Hertz monodisperse 3D only: the packing's own z = 2 N_c*/n, Phi and Z(5/3).
@@ -200,55 +215,61 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
                           {"eigensolve", eigen_seconds},
                           {"condensation_K1", m1.seconds},
                           {"condensation_K_gmres", m.seconds},
+                          {"ldlt_K", ldl_k ? ldl_k->seconds : 0.0},
                           {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
   return j;
 }
 
+std::string fixed(const nlohmann::json& v) {
+  if (v.is_null()) return "-";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g", v.get<double>());
+  return b;
+}
+std::string count(const nlohmann::json& v) { return std::to_string(v.get<long long>()); }
+std::string yes_no(const nlohmann::json& v) { return v.is_null() ? "-" : v.get<bool>() ? "yes" : "no"; }
+
+/// The readable summary rank 0 prints: (label, value) lines.
 std::string table(const nlohmann::json& j) {
-  std::string out;
-  char buf[200];
-  auto row = [&](const char* name, const std::string& value) {
-    std::snprintf(buf, sizeof buf, "  %-34s %s\n", name, value.c_str());
-    out += buf;
-  };
-  auto num_s = [](const nlohmann::json& v) {
-    if (v.is_null()) return std::string("-");
-    char b[40];
-    std::snprintf(b, sizeof b, "%.6g", v.get<double>());
-    return std::string(b);
-  };
-  auto int_s = [](const nlohmann::json& v) { return std::to_string(v.get<long long>()); };
-  out += "granpack stiffness: " + j["file"].get<std::string>() + "\n";
-  row("dimension, n, ranks", int_s(j["dimension"]) + ", " + int_s(j["n"]) + ", " + int_s(j["ranks"]));
-  row("friction mu", j["friction"].dump());
-  row("backbone grains, contacts", int_s(j["backbone_grains"]) + ", " + int_s(j["backbone_contacts"]));
-  row("N_f, rows of G", int_s(j["N_f"]) + ", " + int_s(j["G_rows"]));
-  row("virtual work |tG f - F|/|F|", num_s(j["virtual_work_residual"]) + " (grain rows " +
-                                       num_s(j["virtual_work_grain_residual"]) + ", Sigma: " +
-                                       j["prescribed_stress_source"].get<std::string>() + ")");
-  row("mechanisms k", int_s(j["mechanisms"]) + " = " + int_s(j["trivial_mechanisms"]) + " trivial + " +
-                          int_s(j["divalent_mechanisms"]) + " divalent + " + int_s(j["other_mechanisms"]) +
-                          " other + " + int_s(j["strain_mechanisms"]) + " strain");
-  row("rattlers (not in G), their dofs", int_s(j["rattlers"]) + ", " + int_s(j["rattler_mechanisms"]));
-  row("divalent modes |K1 v|/(<k_n>|v|)", num_s(j["divalent_mode_residual"]));
-  std::string eig;
-  for (const auto& e : j["smallest_eigenvalues_over_mean_kn"]) eig += num_s(e) + " ";
-  row("smallest eig. (stiffened)/<k_n>", eig);
-  row("positive definite (stiffened)", j["positive_definite"].get<bool>() ? "yes" : "NO");
-  row("H (eq. 19), H/N_f*", int_s(j["H"]) + ", " + num_s(j["H_over_Nf"]));
-  row("H, H/N_f* from counts (eq. 37)", num_s(j["H_eq37"]) + ", " + num_s(j["H_over_Nf_eq37"]));
-  row("isostatic", j["isostatic"].get<bool>() ? "yes" : "no");
-  row("bulk modulus B (K1+K2) / Pa", num_s(j["bulk_modulus"]));
-  row("B from K1 only / Pa", num_s(j["constitutive"]["bulk_modulus"]));
-  row("B eq. (30) / Pa, ratio", num_s(j["bulk_modulus_eq30"]) + (j.contains("bulk_modulus_over_eq30")
-                                                                     ? ", " + num_s(j["bulk_modulus_over_eq30"]) : ""));
-  row("shear modulus (diag. strains) / Pa", num_s(j["shear_modulus_diag"]));
-  const auto& p = j["partition"];
-  row("edge cut: METIS / spatial", int_s(p["edge_cut_metis"]) + " / " + int_s(p["edge_cut_spatial"]));
   const auto& t = j["timings_seconds"];
-  row("time: assembly, Cholesky, eig (s)", num_s(t["assembly"]) + ", " + num_s(t["cholesky_K1"]) + ", " + num_s(t["eigensolve"]));
-  row("time: condense K1, K (GMRES its)", num_s(t["condensation_K1"]) + ", " + num_s(t["condensation_K_gmres"]) +
-                                             " (" + int_s(j["gmres_iterations_K"]) + ")");
+  const auto& part = j["partition"];
+  std::string eig;
+  for (const auto& e : j["smallest_eigenvalues_over_mean_kn"]) eig += fixed(e) + " ";
+  const std::vector<std::pair<std::string, std::string>> lines = {
+      {"dimension, n, ranks", count(j["dimension"]) + ", " + count(j["n"]) + ", " + count(j["ranks"])},
+      {"friction mu", j["friction"].dump()},
+      {"backbone grains, contacts", count(j["backbone_grains"]) + ", " + count(j["backbone_contacts"])},
+      {"N_f, rows of G", count(j["N_f"]) + ", " + count(j["G_rows"])},
+      {"virtual work |tG f - F|/|F|", fixed(j["virtual_work_residual"]) + " (grain rows " +
+                                          fixed(j["virtual_work_grain_residual"]) + ", Sigma: " +
+                                          j["prescribed_stress_source"].get<std::string>() + ")"},
+      {"mechanisms k", count(j["mechanisms"]) + " = " + count(j["trivial_mechanisms"]) + " trivial + " +
+                           count(j["divalent_mechanisms"]) + " divalent + " + count(j["other_mechanisms"]) +
+                           " other + " + count(j["strain_mechanisms"]) + " strain"},
+      {"rattlers (not in G), their dofs", count(j["rattlers"]) + ", " + count(j["rattler_mechanisms"])},
+      {"divalent modes |K1 v|/(<k_n>|v|)", fixed(j["divalent_mode_residual"])},
+      {"smallest eig. (stiffened)/<k_n>", eig},
+      {"K(1) positive definite (stiffened)", yes_no(j["positive_definite"])},
+      {"K(1)+K(2) positive definite", yes_no(j["K_positive_definite"])},
+      {"H (eq. 19), H/N_f*", count(j["H"]) + ", " + fixed(j["H_over_Nf"])},
+      {"H, H/N_f* from counts (eq. 37)", fixed(j["H_eq37"]) + ", " + fixed(j["H_over_Nf_eq37"])},
+      {"isostatic", yes_no(j["isostatic"])},
+      {"bulk modulus B (K1+K2) / Pa", fixed(j["bulk_modulus"])},
+      {"B from K1 only / Pa", fixed(j["constitutive"]["bulk_modulus"])},
+      {"B eq. (30) / Pa, B / B(30)", fixed(j["bulk_modulus_eq30"]) + ", " + fixed(j.value("bulk_modulus_over_eq30", nlohmann::json()))},
+      {"shear modulus (diag. strains) / Pa", fixed(j["shear_modulus_diag"]) + " (K1 only " +
+                                                 fixed(j["constitutive"]["shear_modulus_diag"]) + ")"},
+      {"edge cut: METIS / spatial", count(part["edge_cut_metis"]) + " / " + count(part["edge_cut_spatial"])},
+      {"time: assembly, Cholesky, eig (s)", fixed(t["assembly"]) + ", " + fixed(t["cholesky_K1"]) + ", " + fixed(t["eigensolve"])},
+      {"time: condense K1, K (GMRES its)", fixed(t["condensation_K1"]) + ", " + fixed(t["condensation_K_gmres"]) + " (" +
+                                               count(j["gmres_iterations_K"]) + ")"},
+  };
+  std::string out = "granpack stiffness: " + j["file"].get<std::string>() + "\n";
+  for (const auto& [label, value] : lines) {
+    out += "  " + label;
+    out.append(label.size() < 36 ? 36 - label.size() : 1, ' ');
+    out += value + "\n";
+  }
   return out;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "granpack/comm/collective_error.h"
 #include "granpack/comm/reduce.h"
 
 namespace granpack {
@@ -94,11 +95,13 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
 
   // Block nonzeros per owned grain row: 1 + its backbone contacts (counted where the rows live).
   OwnedVec counts = grain_vector(v.world, num.local);
-  for (const auto* c : mine) {
-    const PetscInt ij[2] = {PetscInt(num.index.at(p.id[c->i])), PetscInt(num.index.at(p.id[c->j]))};
-    const PetscScalar one[2] = {1.0, 1.0};
-    GRANPACK_PETSC(VecSetValues(counts, 2, ij, one, ADD_VALUES));
-  }
+  collectively(v.world, [&] {  // at() throws on one rank if a grain were not numbered
+    for (const auto* c : mine) {
+      const PetscInt ij[2] = {PetscInt(num.index.at(p.id[c->i])), PetscInt(num.index.at(p.id[c->j]))};
+      const PetscScalar one[2] = {1.0, 1.0};
+      GRANPACK_PETSC(VecSetValues(counts, 2, ij, one, ADD_VALUES));
+    }
+  });
   GRANPACK_PETSC(VecAssemblyBegin(counts));
   GRANPACK_PETSC(VecAssemblyEnd(counts));
   std::vector<PetscInt> nnz(num.local);
@@ -132,6 +135,9 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   std::vector<DivalentContact> divalent;
   std::vector<PetscInt> rows(2 * g), cols(per_row);
   PetscInt row = first_row;
+  // A failure here (a contact without overlap, a grain missing from the numbering) is seen by
+  // one rank only: collectively() makes every rank throw it before the next collective call.
+  collectively(v.world, [&] {
   for (const auto* c : mine) {
     RigidityContact<dim> rc;
     rc.geometry = make_pair_geometry<dim>(p.radius[c->i], p.radius[c->j], p.mass[c->i], p.mass[c->j], c->branch);
@@ -172,6 +178,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
       }
     }
   }
+  });
   GRANPACK_PETSC(MatAssemblyBegin(s.G, MAT_FINAL_ASSEMBLY));
   GRANPACK_PETSC(MatAssemblyEnd(s.G, MAT_FINAL_ASSEMBLY));
   GRANPACK_PETSC(VecAssemblyBegin(s.f));

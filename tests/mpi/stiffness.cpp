@@ -60,9 +60,10 @@ std::filesystem::path run_text_deck(const std::string& tag, const std::string& t
 }
 
 /// A small disordered packing: FCC melted by hard-sphere collisions, then compressed at
-/// kappa = 1000 (soft, so that it settles quickly) with friction mu. Without friction 108
-/// equal spheres recrystallise; diameters uniform in [0.8 a, a], placed at random, stay
-/// disordered.
+/// kappa = 1000 (soft, so that it settles quickly) with friction mu; with mu = 0.3 and this
+/// seed one grain is divalent, so the rolling-mode path meets the dense SVD too. Without
+/// friction 108 equal spheres recrystallise; diameters uniform in [0.8 a, a], placed at
+/// random, stay disordered.
 std::string small_deck(double mu) {
   return R"([sample]
 dimension = 3
@@ -214,6 +215,7 @@ void compare_with_dense(const std::string& tag, double mu) {
   const auto j = run_stiffness(file);
   EXPECT_TRUE(j["positive_definite"].get<bool>());
   EXPECT_LT(j["virtual_work_residual"].get<double>(), 1e-3);
+  if (mu > 0) EXPECT_EQ(j["divalent_mechanisms"], 1);  // the case this deck is chosen for
   if (rank_of() != 0) return;
   const Dense d = dense_reference(file, j);
   // The rank decision is clear-cut: a wide gap between kept and dropped singular values.
