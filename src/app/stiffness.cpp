@@ -78,7 +78,8 @@ template <int dim> double z_five_thirds(const PackingView<dim>& v) {
   return sums.sums()[3] / sums.contacts() / std::pow(mean, 5.0 / 3.0);
 }
 
-template <int dim> nlohmann::json moduli_json(const Moduli<dim>& m) {
+template <int dim> nlohmann::json moduli_json(const Moduli<dim>& m, bool valid) {
+  if (!valid) return {{"bulk_modulus", nullptr}, {"shear_modulus_diag", nullptr}, {"c_diagonal_strains", nullptr}};
   std::vector<std::vector<double>> c(dim, std::vector<double>(dim));
   for (int a = 0; a < dim; ++a)
     for (int b = 0; b < dim; ++b) c[a][b] = m.stiffness(a, b);
@@ -113,24 +114,35 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const Eigen::SelfAdjointEigenSolver<Tensor<dim>> schur_eig(0.5 * (m1.schur + m1.schur.transpose()));
   int strain_mechanisms = 0;
   for (int a = 0; a < dim; ++a) strain_mechanisms += schur_eig.eigenvalues()[a] < 1e-9 * s.mean_kn;
+  const bool positive_definite = chol.null_pivots == 0 && chol.negative_pivots == 0 && strain_mechanisms == 0 &&
+                                 !eig.empty() && eig.front() > 0;
+  // Unexpected mechanisms are named; the response of such a backbone is not computed.
+  std::vector<std::vector<GlobalId>> floppy;
+  if (chol.null_pivots > 0)
+    floppy = floppy_modes(s.k1.uu, s.numbering, g, s.mean_kn, int(chol.null_pivots) + 4, 1e-8, 1e-7);
+
   // Without friction K = K(1) + K(2) is symmetric (central forces): its inertia says whether
   // the prestress (K(2) is negative there, [AR] App. B) leaves the backbone stable.
   std::optional<DirectSolver> ldl_k;
-  if (!s.layout.rotations) ldl_k = factorize(s.k.uu, true, opt.null_pivot_threshold);
-  // K = K(1) + K(2): GMRES preconditioned by the K(1) factors (no second factorisation).
-  PreconditionedSolver gmres = krylov_with_factors(s.k.uu, chol, 1e-13);
-  const Moduli<dim> m = condense<dim>(s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, v.system.cell.length,
-                                      volume, Vec<dim>(v.stress.diagonal()));
+  Moduli<dim> m;
+  std::int64_t gmres_iterations = 0;
+  if (positive_definite) {
+    if (!s.layout.rotations) ldl_k = factorize(s.k.uu, true, opt.null_pivot_threshold);
+    // K = K(1) + K(2): GMRES preconditioned by the K(1) factors (no second factorisation).
+    PreconditionedSolver gmres = krylov_with_factors(s.k.uu, chol, 1e-13);
+    m = condense<dim>(s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, v.system.cell.length, volume,
+                      Vec<dim>(v.stress.diagonal()));
+    gmres_iterations = gmres.iterations;
+  }
 
   // Counts, eq. (19)-(20).
   const std::int64_t n_star = s.numbering.grains;
-  const std::int64_t k = dim + std::int64_t(km.divalent.size()) + chol.null_pivots + strain_mechanisms;
+  const std::int64_t other = chol.null_pivots > 0 ? std::int64_t(floppy.size()) : 0;
+  const std::int64_t k = dim + std::int64_t(km.divalent.size()) + other + strain_mechanisms;
   const std::int64_t nf = s.dof();
   const std::int64_t h = s.layout.rows_per_contact() * s.contacts + k - nf;
   const Hyperstaticity eq37 = hyperstaticity<dim>(s.contacts, n_star, std::int64_t(km.divalent.size()), s.layout.rotations);
   const std::vector<GlobalId> rattlers = gather_rattlers(v);
-  const bool positive_definite = chol.null_pivots == 0 && chol.negative_pivots == 0 && strain_mechanisms == 0 &&
-                                 !eig.empty() && eig.front() > 0;
 
   nlohmann::json j;
   j["file"] = opt.file.string();
@@ -149,12 +161,14 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["mechanisms"] = k;
   j["trivial_mechanisms"] = dim;
   j["divalent_mechanisms"] = std::int64_t(km.divalent.size());
-  j["other_mechanisms"] = chol.null_pivots;
+  j["other_mechanisms"] = other;
+  j["null_pivots"] = chol.null_pivots;
   j["strain_mechanisms"] = strain_mechanisms;
   j["rattler_mechanisms"] = std::int64_t(rattlers.size()) * g;
   nlohmann::json div = nlohmann::json::array();
   for (const auto& d : km.divalent) div.push_back({{"grain", d.grain}, {"neighbours", {d.neighbours[0], d.neighbours[1]}}});
   j["divalent_grains"] = div;
+  j["other_mechanism_grains"] = floppy;
   j["rattler_grains"] = rattlers;
   j["divalent_mode_residual"] = km.divalent_residual;
   j["pinned_grain"] = km.pinned_grain;
@@ -181,13 +195,12 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["prescribed_stress"] = sig;
   j["stress_from_forces"] = sig_f;
   j["mean_kn"] = s.mean_kn;
-  j["gmres_iterations_K"] = gmres.iterations;
+  j["gmres_iterations_K"] = gmres_iterations;
 
-  // With an unexpected mechanism the factorisation regularised a singular matrix: the
-  // moduli are then numbers without meaning, kept for diagnosis only.
+  // With an unexpected mechanism the response is not defined: the moduli are null.
   j["moduli_valid"] = positive_definite;
-  j.update(moduli_json(m));
-  j["constitutive"] = moduli_json(m1);
+  j.update(moduli_json(m, positive_definite));
+  j["constitutive"] = moduli_json(m1, positive_definite);
   // eq. (30), Hertz monodisperse 3D only: the packing's own z = 2 N_c*/n, Phi and Z(5/3).
   const auto& mat = v.deck.material;
   const double z = 2.0 * double(s.contacts) / double(v.n);
@@ -199,8 +212,10 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
     const double b30 = 1.0 / (2.0 * z53) * std::pow(z * v.phi / (3.0 * std::numbers::pi), 2.0 / 3.0) *
                        std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure);
     j["bulk_modulus_eq30"] = b30;
-    j["bulk_modulus_over_eq30"] = m.bulk / b30;
-    j["bulk_modulus_reduced"] = m.bulk / (std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure));
+    j["bulk_modulus_over_eq30"] = positive_definite ? nlohmann::json(m.bulk / b30) : nlohmann::json();
+    j["bulk_modulus_reduced"] = positive_definite ? nlohmann::json(m.bulk / (std::pow(e_tilde, 2.0 / 3.0) *
+                                                                               std::cbrt(v.pressure)))
+                                                  : nlohmann::json();
   } else {
     j["bulk_modulus_eq30"] = nullptr;
   }
@@ -264,8 +279,15 @@ std::string table(const nlohmann::json& j) {
       {"time: condense K1, K (GMRES its)", fixed(t["condensation_K1"]) + ", " + fixed(t["condensation_K_gmres"]) + " (" +
                                                count(j["gmres_iterations_K"]) + ")"},
   };
+  std::vector<std::pair<std::string, std::string>> all = lines;
+  const auto& other = j["other_mechanism_grains"];
+  for (std::size_t k = 0; k < other.size() && k < 5; ++k) {
+    std::string ids;
+    for (const auto& id : other[k]) ids += count(id) + " ";
+    all.emplace_back("  other mechanism " + std::to_string(k + 1) + ": grains", ids);
+  }
   std::string out = "granpack stiffness: " + j["file"].get<std::string>() + "\n";
-  for (const auto& [label, value] : lines) {
+  for (const auto& [label, value] : all) {
     out += "  " + label;
     out.append(label.size() < 36 ? 36 - label.size() : 1, ' ');
     out += value + "\n";

@@ -114,9 +114,13 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
   return km;
 }
 
-std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int count, double scale,
-                                         double* seconds) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+/// Krylov-Schur on the inverse of the factorised `a` (shift-and-invert at 0 with the
+/// factors): the `count` eigenpairs of `a` nearest 0, eigenvalues ascending, and with
+/// `vectors` the eigenvectors (laid out like a's rows).
+std::vector<double> eigenpairs_near_zero(Mat a, const DirectSolver& solver, int count,
+                                         std::vector<OwnedVec>* vectors) {
   MPI_Comm comm = MPI_COMM_NULL;
   GRANPACK_PETSC(PetscObjectGetComm(reinterpret_cast<PetscObject>(a), &comm));
   PetscInt m = 0, n = 0, big_m = 0, big_n = 0;
@@ -129,7 +133,7 @@ std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int 
   GRANPACK_PETSC(MatShellSetOperation(inverse, MATOP_MULT, reinterpret_cast<void (*)(void)>(apply_inverse)));
   EPS eps = nullptr;
   GRANPACK_PETSC(EPSCreate(comm, &eps));
-  std::vector<double> out;
+  std::vector<std::pair<double, PetscInt>> found;
   try {
     GRANPACK_PETSC(EPSSetOptionsPrefix(eps, "stiffness_"));
     GRANPACK_PETSC(EPSSetOperators(eps, inverse, nullptr));
@@ -144,16 +148,90 @@ std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int 
     for (PetscInt k = 0; k < std::min<PetscInt>(converged, count); ++k) {
       PetscScalar mu = 0;
       GRANPACK_PETSC(EPSGetEigenvalue(eps, k, &mu, nullptr));
-      out.push_back(1.0 / (mu * scale));
+      found.emplace_back(1.0 / mu, k);
     }
+    std::sort(found.begin(), found.end());
+    if (vectors)
+      for (const auto& [lambda, k] : found) {
+        OwnedVec x;
+        GRANPACK_PETSC(MatCreateVecs(a, x.address(), nullptr));
+        GRANPACK_PETSC(EPSGetEigenvector(eps, k, x, nullptr));
+        vectors->push_back(std::move(x));
+      }
   } catch (...) {
     EPSDestroy(&eps);
     throw;
   }
   EPSDestroy(&eps);
-  std::sort(out.begin(), out.end());
+  std::vector<double> out;
+  for (const auto& [lambda, k] : found) out.push_back(lambda);
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int count, double scale,
+                                         double* seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<double> out = eigenpairs_near_zero(a, solver, count, nullptr);
+  for (double& x : out) x /= scale;
   if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+std::vector<std::vector<GlobalId>> floppy_modes(Mat a, const GrainNumbering& numbering, int grain_dofs,
+                                                double mean_kn, int count, double shift, double tolerance) {
+  MPI_Comm comm = MPI_COMM_NULL;
+  GRANPACK_PETSC(PetscObjectGetComm(reinterpret_cast<PetscObject>(a), &comm));
+  OwnedMat shifted;
+  GRANPACK_PETSC(MatDuplicate(a, MAT_COPY_VALUES, shifted.address()));
+  GRANPACK_PETSC(MatShift(shifted, shift * mean_kn));
+  const DirectSolver solver = factorize(shifted, true, 0.0);
+  // Ask for more eigenpairs until one lies above the tolerance: the null space is complete.
+  PetscInt size_a = 0;
+  GRANPACK_PETSC(MatGetSize(shifted, &size_a, nullptr));
+  std::vector<OwnedVec> vectors;
+  std::vector<double> lambda;
+  for (;;) {
+    vectors.clear();
+    lambda = eigenpairs_near_zero(shifted, solver, count, &vectors);
+    const bool all_null = !lambda.empty() && std::size_t(count) == lambda.size() &&
+                          lambda.back() / mean_kn - shift <= tolerance;
+    if (!all_null || count >= size_a) break;
+    count = int(std::min<PetscInt>(2 * PetscInt(count), size_a));
+  }
+  std::vector<std::vector<GlobalId>> modes;
+  for (std::size_t k = 0; k < lambda.size(); ++k) {
+    if (lambda[k] / mean_kn - shift > tolerance) continue;
+    // Per-grain amplitude of this rank's rows, then every rank's (index, amplitude) pairs.
+    const PetscScalar* x = nullptr;
+    GRANPACK_PETSC(VecGetArrayRead(vectors[k], &x));
+    std::vector<double> local(2 * numbering.local);
+    for (std::int64_t i = 0; i < numbering.local; ++i) {
+      double a2 = 0;
+      for (int d = 0; d < grain_dofs; ++d) a2 += x[i * grain_dofs + d] * x[i * grain_dofs + d];
+      local[2 * i] = double(numbering.first + i), local[2 * i + 1] = std::sqrt(a2);
+    }
+    GRANPACK_PETSC(VecRestoreArrayRead(vectors[k], &x));
+    int size = 1;
+    MPI_Comm_size(comm, &size);
+    const int mine = int(local.size());
+    std::vector<int> counts(size), displs(size, 0);
+    MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    std::vector<double> all(displs[size - 1] + counts[size - 1]);
+    MPI_Allgatherv(local.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+    std::vector<std::pair<double, GlobalId>> amp;
+    double largest = 0;
+    for (std::size_t i = 0; i + 1 < all.size(); i += 2) largest = std::max(largest, all[i + 1]);
+    for (std::size_t i = 0; i + 1 < all.size(); i += 2)
+      if (all[i + 1] >= 0.1 * largest) amp.emplace_back(-all[i + 1], numbering.ids[std::size_t(all[i])]);
+    std::sort(amp.begin(), amp.end());
+    std::vector<GlobalId> grains;
+    for (std::size_t i = 0; i < std::min<std::size_t>(amp.size(), 50); ++i) grains.push_back(amp[i].second);
+    modes.push_back(std::move(grains));
+  }
+  return modes;
 }
 
 template KnownMechanisms remove_known_mechanisms<2>(StiffnessSystem<2>&);

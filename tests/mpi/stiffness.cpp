@@ -215,7 +215,9 @@ void compare_with_dense(const std::string& tag, double mu) {
   const auto j = run_stiffness(file);
   EXPECT_TRUE(j["positive_definite"].get<bool>());
   EXPECT_LT(j["virtual_work_residual"].get<double>(), 1e-3);
-  if (mu > 0) EXPECT_EQ(j["divalent_mechanisms"], 1);  // the case this deck is chosen for
+  if (mu > 0) {
+    EXPECT_EQ(j["divalent_mechanisms"], 1);  // the case this deck is chosen for
+  }
   if (rank_of() != 0) return;
   const Dense d = dense_reference(file, j);
   // The rank decision is clear-cut: a wide gap between kept and dropped singular values.

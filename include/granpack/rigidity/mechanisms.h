@@ -39,4 +39,15 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
 std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int count, double scale,
                                          double* seconds);
 
+/// Unexpected mechanisms, counted and named: the eigenvectors of the (singular) stiffened
+/// K(1)_uu with eigenvalue below `tolerance` <k_n>, from SLEPc on the inverse of
+/// K(1)_uu + shift <k_n> 1 (a second, regularised factorisation), asking for `count`, then
+/// twice as many, until one eigenvalue is above the tolerance. MUMPS's null-pivot count
+/// only triggers this: on a matrix with many null directions it depends on the pivot order
+/// (98 on one rank, 90 on two for the same floppy network, whose nullity is larger). Each
+/// mode lists the ids of the grains carrying at least 10 % of its largest per-grain amplitude
+/// (at most 50, largest first). Collective.
+std::vector<std::vector<GlobalId>> floppy_modes(Mat a, const GrainNumbering& numbering, int grain_dofs,
+                                                double mean_kn, int count, double shift, double tolerance);
+
 }  // namespace granpack
