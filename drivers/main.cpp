@@ -7,6 +7,10 @@
 #include <iostream>
 
 #include "granpack/app/analyze.h"
+#ifdef GRANPACK_HAVE_RIGIDITY
+#include "granpack/app/stiffness.h"
+#include "granpack/rigidity/petsc_support.h"
+#endif
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/prep/run_deck.h"
@@ -63,6 +67,17 @@ int main(int argc, char** argv) {
   auto* stiffness_cmd = app.add_subcommand("stiffness", "rigidity, mechanisms and elastic moduli");
   stiffness_cmd->add_option("file", file, "configuration file (.h5)")->required();
   stiffness_cmd->add_option("--json", json_out, "also write the results as JSON to this file");
+  double stiffness_threshold = 1e-4, null_pivot_threshold = 1e-12;
+  int stiffness_eigenvalues = 6;
+  stiffness_cmd->add_option("--threshold", stiffness_threshold,
+                            "force-carrying threshold / (a^2 P) (default 1e-4, as analyze)")
+      ->check(CLI::Range(0.0, 1.0));
+  stiffness_cmd->add_option("--null-pivot", null_pivot_threshold,
+                            "MUMPS null-pivot threshold relative to |K| (default 1e-12)")
+      ->check(CLI::Range(1e-300, 1e-2));
+  stiffness_cmd->add_option("--eigenvalues", stiffness_eigenvalues,
+                            "smallest eigenvalues of the stiffened K(1) to report (default 6)")
+      ->check(CLI::Range(1, 1000));
   auto* info_cmd = app.add_subcommand("info", "what a granpack HDF5 file holds");
   info_cmd->add_option("file", file, "granpack HDF5 file")->required();
 
@@ -92,7 +107,17 @@ int main(int argc, char** argv) {
       if (!h5_out.empty()) a.hdf5 = h5_out;
       granpack::analyze_file(MPI_COMM_WORLD, a);
     } else if (*stiffness_cmd) {
-      throw granpack::NotImplemented("'granpack stiffness' is not implemented yet (issue 6)");
+#ifdef GRANPACK_HAVE_RIGIDITY
+      granpack::StiffnessOptions s;
+      s.file = file;
+      s.threshold = stiffness_threshold;
+      s.null_pivot_threshold = null_pivot_threshold;
+      s.eigenvalues = stiffness_eigenvalues;
+      if (!json_out.empty()) s.json = json_out;
+      granpack::stiffness_file(MPI_COMM_WORLD, s);
+#else
+      throw granpack::NotImplemented("this granpack was built without GRANPACK_ENABLE_RIGIDITY");
+#endif
     }
   } catch (const granpack::CheckpointedStop& e) {
     // Not an error: the batch system asked us to stop and the state is saved.
@@ -109,6 +134,9 @@ int main(int argc, char** argv) {
               << std::endl;
     MPI_Abort(MPI_COMM_WORLD, granpack::kExitFailure);
   }
+#ifdef GRANPACK_HAVE_RIGIDITY
+  granpack::finalize_petsc();
+#endif
   MPI_Finalize();
   return code;
 }

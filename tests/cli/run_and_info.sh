@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # End to end: `granpack run` of the main deck on 2 ranks writes report.json (with every
 # required key), final.h5 + final.xdmf and log.txt; `granpack info` reads the file written by
-# 2 ranks on 1 rank; unimplemented subcommands say so with exit code 3.
+# 2 ranks on 1 rank; `granpack stiffness` on a packing without contacts refuses it (exit 2).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 scratch=$(mktemp -d)
@@ -53,7 +53,7 @@ check "info on 1 rank exits 0" "[ $? -eq 0 ]"
 check "info names dimension and n: $info" "grep -q 'dimension' <<<\"\$info\" && grep -q '256' <<<\"\$info\""
 
 "$GRANPACK_EXE" stiffness "$out/final.h5" > "$scratch/a.txt" 2>&1
-check "stiffness not implemented: exit 3" "[ $? -eq 3 ] && grep -q 'not implemented' '$scratch/a.txt'"
+check "stiffness of a packing without contacts: exit 2" "[ $? -eq 2 ] && grep -q 'no backbone' '$scratch/a.txt'"
 "$GRANPACK_EXE" info "$scratch/does_not_exist.h5" > "$scratch/i.txt" 2>&1
 check "info on a missing file: exit 2" "[ $? -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/i.txt'"
 

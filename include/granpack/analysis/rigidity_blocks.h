@@ -1,0 +1,85 @@
+#pragma once
+// Per-contact blocks of the rigidity matrix G ([AR] eq. 10-11) and of the stiffness matrix
+// K = K(1) + K(2) ([AR] eq. 18 and App. B), for one contact between grains i (first) and j.
+// MPI-free: the PETSc assembler (rigidity/) adds these blocks at global indices, and the
+// serial tests check them against closed forms and finite differences. docs/stiffness.md.
+//
+// Local unknowns of one contact, in this order (m = 2 g + dim entries, g = grain dofs):
+//   x = (u_i, rho_i, u_j, rho_j, e)
+// u: periodic displacement ũ (m); rho = theta * ell, the rotation times a fixed length ell
+// (m), present only with friction (frictionless grains carry no torque: [AR] eq. 20 drops
+// rotations); e_alpha = eps_alpha * L_alpha, the diagonal strain ([AR]: eps_alpha = -dL/L,
+// positive in compression) times the cell length (m). Every unknown is a length, so every
+// block is in N/m and the conjugate loads are forces: F_u, torque/ell, Omega Sigma_alpha/L_alpha.
+//
+// Sign conventions ([AR] eq. 10 with the dynamics' branch vectors, docs/contact-law.md):
+// delta_u = ũ_i + θ_i x b_i - ũ_j - θ_j x b_j + eps.r_ij is the approach of i's contact point
+// to j's; the contact force F = N n + T acts on j (from i); loads F_ext = ᵀG f.
+#include <Eigen/Core>
+
+#include "granpack/contact/contact_law.h"
+#include "granpack/core/vec.h"
+
+namespace granpack {
+
+/// Everything the blocks need about one contact.
+template <int dim> struct RigidityContact {
+  PairGeometry<dim> geometry;     ///< from r_ij and the radii (make_pair_geometry)
+  double normal_force = 0;        ///< N^e (> 0: repulsive)
+  Vec<dim> tangential_force = Vec<dim>::Zero();  ///< T, on j, global frame (0 if frictionless)
+  ContactStiffness stiffness;     ///< from ContactLaw::stiffness(): the dynamics' law
+};
+
+/// Unknown layout and scales of one problem.
+template <int dim> struct RigidityLayout {
+  bool rotations = true;          ///< false: frictionless, translations only
+  double ell = 1;                 ///< rotation length scale (m): rho = theta * ell
+  Vec<dim> cell = Vec<dim>::Ones();  ///< L_alpha: e_alpha = eps_alpha L_alpha
+
+  int grain_dofs() const { return rotations ? dim + rot_dim<dim> : dim; }
+  int local_size() const { return 2 * grain_dofs() + dim; }
+  /// Rows of G per contact: dim with friction (normal and tangential), 1 without.
+  int rows_per_contact() const { return rotations ? dim : 1; }
+};
+
+using DynMatrix = Eigen::MatrixXd;
+using DynVector = Eigen::VectorXd;
+
+/// The dim x m map from the local unknowns x to the relative displacement delta_u (global
+/// frame), eq. (10).
+template <int dim>
+DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+
+/// G rows of the contact ([AR] eq. 11): delta_u itself with friction (dim rows, global
+/// frame), its normal part n . delta_u without (1 row).
+template <int dim> DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+
+/// The contact's force in G's row space: F = N n + T with friction, N without.
+template <int dim> DynVector contact_force_vector(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+
+/// The contact's constitutive stiffness in G's row space (eq. 12-13, global frame):
+/// k_n n nᵀ + k_t (1 - n nᵀ) with friction, k_n without. Elastic values throughout: [AR]
+/// uses the elastic 𝒦 of eq. (13) even on sliding contacts.
+template <int dim> DynMatrix contact_stiffness(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+
+/// m x m constitutive block ᵀG 𝒦 G, eq. (18). Symmetric positive semi-definite.
+template <int dim> DynMatrix constitutive_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+
+/// m x m geometric block K(2): the change of the loads ᵀG f at fixed contact-law response
+/// when the geometry moves (rotation of n and of T, App. B eq. B1-B5; moving branch vectors
+/// and r_ij in the moments and in Omega Sigma). Not symmetric with friction. Derivation in
+/// docs/stiffness.md.
+template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+
+/// Generalised loads of the contact on the local unknowns, (ᵀG f) restricted to the
+/// contact: (F, b_i x F / ell, -F, -b_j x F / ell, F_alpha r_alpha / L_alpha).
+template <int dim> DynVector contact_loads(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+
+/// The free rolling of a divalent grain ([AR] fig. 14, App. E): rotation about the line
+/// through its two contact points p1, p2 (branch vectors from its centre), the centre moving
+/// by theta x (0 - p1). Returns the grain's g = 6 scaled dofs (u, rho), unit norm; both
+/// contact points stay still, so with the neighbours at rest the mode is an exact null
+/// vector of G. 3D with rotations only.
+Eigen::Matrix<double, 6, 1> divalent_rolling_mode(const Vec<3>& p1, const Vec<3>& p2, double ell);
+
+}  // namespace granpack

@@ -1,0 +1,27 @@
+#pragma once
+// `granpack stiffness FILE.h5`: is the packing rigid, where are its mechanisms, how
+// hyperstatic and how stiff is it ([AR] sec. II C, III B, IV D; docs/stiffness.md).
+// Distributed (PETSc/SLEPc, METIS); collective on world.
+#include <mpi.h>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace granpack {
+
+struct StiffnessOptions {
+  std::filesystem::path file;
+  std::optional<std::filesystem::path> json;  ///< also write the results here
+  /// Force-carrying threshold / (a^(dim-1) P), as in `granpack analyze`.
+  double threshold = 1e-4;
+  /// MUMPS null-pivot threshold, relative to the matrix's infinity norm (CNTL(3)).
+  double null_pivot_threshold = 1e-12;
+  /// Smallest eigenvalues of the stiffened grain block to report (SLEPc).
+  int eigenvalues = 6;
+};
+
+/// Returns the JSON text of the results (on every rank); rank 0 prints the table.
+std::string stiffness_file(MPI_Comm world, const StiffnessOptions& options);
+
+}  // namespace granpack

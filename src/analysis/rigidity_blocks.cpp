@@ -1,0 +1,165 @@
+#include "granpack/analysis/rigidity_blocks.h"
+
+#include <Eigen/Geometry>
+
+namespace granpack {
+
+namespace {
+
+/// Column offsets of the local unknowns x = (u_i, rho_i, u_j, rho_j, e).
+template <int dim> struct Offsets {
+  int ui, ri, uj, rj, e;
+  explicit Offsets(const RigidityLayout<dim>& l) {
+    const int g = l.grain_dofs();
+    ui = 0, ri = dim, uj = g, rj = g + dim, e = 2 * g;
+  }
+};
+
+/// The dim x rot_dim matrix X with X theta = theta x b (b fixed).
+template <int dim> Eigen::Matrix<double, dim, rot_dim<dim>> spin_matrix(const Vec<dim>& b) {
+  Eigen::Matrix<double, dim, rot_dim<dim>> x;
+  if constexpr (dim == 3) {
+    // theta x b = -b x theta
+    x << 0, b[2], -b[1], -b[2], 0, b[0], b[1], -b[0], 0;
+  } else {
+    x << -b[1], b[0];
+  }
+  return x;
+}
+
+/// The rot_dim x dim matrix Y with Y a = a x t (t fixed): Δn x T as a map of Δn.
+template <int dim> Eigen::Matrix<double, rot_dim<dim>, dim> cross_with(const Vec<dim>& t) {
+  Eigen::Matrix<double, rot_dim<dim>, dim> y;
+  if constexpr (dim == 3) {
+    // a x t = -t x a
+    y << 0, t[2], -t[1], -t[2], 0, t[0], t[1], -t[0], 0;
+  } else {
+    y << t[1], -t[0];  // (a x t)_z = a_x t_y - a_y t_x
+  }
+  return y;
+}
+
+/// W: the real relative displacement w = u_j - u_i (= ũ_j - ũ_i - eps r_ij) of the centres.
+template <int dim> DynMatrix centre_motion_map(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  const Offsets<dim> o(l);
+  const Vec<dim> r = c.geometry.distance * c.geometry.normal;
+  DynMatrix w = DynMatrix::Zero(dim, l.local_size());
+  w.block(0, o.ui, dim, dim) = -Tensor<dim>::Identity();
+  w.block(0, o.uj, dim, dim) = Tensor<dim>::Identity();
+  for (int a = 0; a < dim; ++a) w(a, o.e + a) = -r[a] / l.cell[a];
+  return w;
+}
+
+}  // namespace
+
+template <int dim>
+DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  const Offsets<dim> o(l);
+  const auto& g = c.geometry;
+  DynMatrix d = DynMatrix::Zero(dim, l.local_size());
+  d.block(0, o.ui, dim, dim) = Tensor<dim>::Identity();
+  d.block(0, o.uj, dim, dim) = -Tensor<dim>::Identity();
+  if (l.rotations) {
+    d.block(0, o.ri, dim, rot_dim<dim>) = spin_matrix<dim>(g.branch_i()) / l.ell;
+    d.block(0, o.rj, dim, rot_dim<dim>) = -spin_matrix<dim>(g.branch_j()) / l.ell;
+  }
+  const Vec<dim> r = g.distance * g.normal;
+  for (int a = 0; a < dim; ++a) d(a, o.e + a) = r[a] / l.cell[a];
+  return d;
+}
+
+template <int dim> DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  const DynMatrix d = relative_displacement_map(c, l);
+  if (l.rotations) return d;
+  return c.geometry.normal.transpose() * d;
+}
+
+template <int dim> DynVector contact_force_vector(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  if (!l.rotations) return DynVector::Constant(1, c.normal_force);
+  return c.normal_force * c.geometry.normal + c.tangential_force;
+}
+
+template <int dim> DynMatrix contact_stiffness(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  if (!l.rotations) return DynMatrix::Constant(1, 1, c.stiffness.k_n);
+  const Vec<dim>& n = c.geometry.normal;
+  const Tensor<dim> nn = n * n.transpose();
+  return c.stiffness.k_n * nn + c.stiffness.k_t * (Tensor<dim>::Identity() - nn);
+}
+
+template <int dim> DynMatrix constitutive_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  const DynMatrix g = rigidity_rows(c, l);
+  return g.transpose() * contact_stiffness(c, l) * g;
+}
+
+template <int dim> DynVector contact_loads(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  return rigidity_rows(c, l).transpose() * contact_force_vector(c, l);
+}
+
+template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  const Offsets<dim> o(l);
+  const auto& g = c.geometry;
+  const int m = l.local_size();
+  const Vec<dim>& n = g.normal;
+  const double r = g.distance, nf = c.normal_force;
+  const Vec<dim> t = l.rotations ? c.tangential_force : Vec<dim>::Zero();
+  const Vec<dim> force = nf * n + t;
+  const Tensor<dim> proj = Tensor<dim>::Identity() - n * n.transpose();
+  const DynMatrix w = centre_motion_map(c, l);  // w = u_j - u_i
+  const DynMatrix dn = proj * w / r;            // Δn, eq. (B2)
+
+  // Pivoting rate s = n.(θ_i + θ_j) (eq. B5; 3D only: in 2D pivoting does not exist).
+  DynMatrix s = DynMatrix::Zero(1, m);
+  if constexpr (dim == 3) {
+    if (l.rotations) {
+      s.block(0, o.ri, 1, 3) = n.transpose() / l.ell;
+      s.block(0, o.rj, 1, 3) = n.transpose() / l.ell;
+    }
+  }
+  const RotVec<dim> n_x_t = moment<dim>(n, t);
+
+  // ΔF = N Δn - n (T.Δn) + ½ s (n x T): eqs. (B1), (B3)-(B5) at fixed contact-law response.
+  DynMatrix d_force = nf * dn - n * (t.transpose() * dn);
+  if constexpr (dim == 3) d_force += 0.5 * Vec<3>(n_x_t) * s;
+
+  DynMatrix k = DynMatrix::Zero(m, m);
+  k.block(o.ui, 0, dim, m) = d_force;
+  k.block(o.uj, 0, dim, m) = -d_force;
+  if (l.rotations) {
+    // Moments β n x F on both grains (β = R - h/2, the dynamics' branch lengths); their
+    // change: Δβ n x T + β Δn x T + β n x ΔF, with Δβ = -Δh/2 = ½ n.w.
+    auto moment_change = [&](double beta) {
+      DynMatrix dm = 0.5 * n_x_t * (n.transpose() * w) + beta * cross_with<dim>(t) * dn;
+      if constexpr (dim == 3) dm -= 0.5 * beta * t * s;
+      return DynMatrix(dm / l.ell);
+    };
+    k.block(o.ri, 0, rot_dim<dim>, m) = moment_change(g.branch_i().norm());
+    k.block(o.rj, 0, rot_dim<dim>, m) = moment_change(g.branch_j().norm());
+  }
+  // Omega Sigma_alpha = sum F_alpha r_alpha: ΔF_alpha r_alpha + F_alpha w_alpha.
+  const Vec<dim> rv = r * n;
+  for (int a = 0; a < dim; ++a)
+    k.row(o.e + a) = (rv[a] * d_force.row(a) + force[a] * w.row(a)) / l.cell[a];
+  return k;
+}
+
+Eigen::Matrix<double, 6, 1> divalent_rolling_mode(const Vec<3>& p1, const Vec<3>& p2, double ell) {
+  const Vec<3> axis = (p2 - p1).normalized();
+  Eigen::Matrix<double, 6, 1> v;
+  v.head<3>() = p1.cross(axis);  // θ x (0 - p1) with θ = axis
+  v.tail<3>() = ell * axis;
+  return v.normalized();
+}
+
+#define GRANPACK_INSTANTIATE(d)                                                                  \
+  template DynMatrix relative_displacement_map<d>(const RigidityContact<d>&, const RigidityLayout<d>&); \
+  template DynMatrix rigidity_rows<d>(const RigidityContact<d>&, const RigidityLayout<d>&);     \
+  template DynVector contact_force_vector<d>(const RigidityContact<d>&, const RigidityLayout<d>&); \
+  template DynMatrix contact_stiffness<d>(const RigidityContact<d>&, const RigidityLayout<d>&); \
+  template DynMatrix constitutive_block<d>(const RigidityContact<d>&, const RigidityLayout<d>&); \
+  template DynVector contact_loads<d>(const RigidityContact<d>&, const RigidityLayout<d>&);     \
+  template DynMatrix geometric_block<d>(const RigidityContact<d>&, const RigidityLayout<d>&);
+GRANPACK_INSTANTIATE(2)
+GRANPACK_INSTANTIATE(3)
+#undef GRANPACK_INSTANTIATE
+
+}  // namespace granpack

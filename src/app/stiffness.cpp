@@ -1,0 +1,314 @@
+// `granpack stiffness`: rigidity matrix, stiffness matrix, mechanisms, hyperstaticity and
+// elastic moduli of a packing's backbone (docs/stiffness.md). The linear algebra lives in
+// rigidity/; this file reads the packing, chains the steps and reports.
+#include "granpack/app/stiffness.h"
+
+#ifdef GRANPACK_HAVE_RIGIDITY  // the executable reports NotImplemented without the layer
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <optional>
+
+#include "granpack/analysis/force_statistics.h"
+#include "granpack/app/packing_view.h"
+#include "granpack/comm/reduce.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/io/report.h"
+#include "granpack/prep/material_law.h"
+#include "granpack/rigidity/condensation.h"
+#include "granpack/rigidity/mechanisms.h"
+#include "granpack/rigidity/virtual_work.h"
+
+namespace granpack {
+
+namespace {
+
+/// The stress the file's packing was equilibrated under: the last compress stage up to the
+/// file's stage. After pressure_steps (whose level a file does not record) or with no such
+/// stage, the measured elastic stress, and `source` says so.
+template <int dim> Vec<dim> prescribed_stress(const PackingView<dim>& v, int stage_index, std::string& source) {
+  Vec<dim> sigma = v.stress.diagonal();
+  source = "measured";
+  for (const auto& st : v.deck.stages) {
+    if (st.index > stage_index) break;
+    if (const auto* c = std::get_if<CompressStage>(&st.params)) {
+      bool all = true;  // every axis stress-controlled
+      for (int a = 0; a < dim; ++a)
+        if (!c->fixed.empty() && c->fixed[a]) all = false;
+      if (c->stress.size() == std::size_t(dim) && all) {
+        for (int a = 0; a < dim; ++a) sigma[a] = c->stress[a];
+        source = "deck stage " + std::to_string(st.index);
+      }
+    } else if (std::holds_alternative<PressureStepsStage>(st.params)) {
+      sigma = v.stress.diagonal();
+      source = "measured";
+    }
+  }
+  return sigma;
+}
+
+template <int dim> std::vector<GlobalId> gather_rattlers(const PackingView<dim>& v) {
+  std::vector<GlobalId> mine;
+  for (std::size_t i = 0; i < v.particles().n_owned(); ++i)
+    if (v.rattler(i)) mine.push_back(v.particles().id[i]);
+  int size = 1;
+  MPI_Comm_size(v.world, &size);
+  int count = int(mine.size());
+  std::vector<int> counts(size), displs(size, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, v.world);
+  for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  std::vector<GlobalId> all(displs[size - 1] + counts[size - 1]);
+  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), displs.data(), MPI_INT64_T, v.world);
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+/// Z(5/3) over the backbone contacts ([AR] eq. 27), for eq. (30).
+template <int dim> double z_five_thirds(const PackingView<dim>& v) {
+  ForceMomentSums sums({5.0 / 3.0});
+  for (const auto& c : v.contacts)
+    if (on_backbone(v, c)) sums.add(ContactForceSample{c.normal_force, 0, 0, 0, 0});
+  MPI_Allreduce(MPI_IN_PLACE, sums.sums().data(), int(sums.sums().size()), MPI_DOUBLE, MPI_SUM, v.world);
+  const double mean = sums.mean_normal_force();
+  return sums.sums()[3] / sums.contacts() / std::pow(mean, 5.0 / 3.0);
+}
+
+template <int dim> nlohmann::json moduli_json(const Moduli<dim>& m, bool valid) {
+  if (!valid) return {{"bulk_modulus", nullptr}, {"shear_modulus_diag", nullptr}, {"c_diagonal_strains", nullptr}};
+  std::vector<std::vector<double>> c(dim, std::vector<double>(dim));
+  for (int a = 0; a < dim; ++a)
+    for (int b = 0; b < dim; ++b) c[a][b] = m.stiffness(a, b);
+  return {{"bulk_modulus", m.bulk}, {"shear_modulus_diag", m.shear_diag}, {"c_diagonal_strains", c}};
+}
+
+template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const FileMeta& meta) {
+  const auto start = std::chrono::steady_clock::now();
+  ensure_petsc_initialized();
+  const PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, 1.5);
+  MaterialSpec material = v.deck.material;
+  material.friction = v.friction;
+  const ContactLaw<dim> law = contact_law_of<dim>(material);
+
+  if (v.backbone.metrics.backbone_contacts == 0)  // known on every rank (a global count)
+    throw InputError(opt.file.string() + ": no force-carrying contact (N > " + std::to_string(opt.threshold) +
+                     " a^2 P): there is no backbone to analyse");
+  StiffnessSystem<dim> s = assemble_stiffness(v, law);
+  const int g = s.grain_dofs();
+  const double volume = v.system.cell.volume();
+  std::string stress_source;
+  const Vec<dim> sigma = prescribed_stress(v, meta.stage_index, stress_source);
+  const VirtualWork vw = check_virtual_work(s, sigma, volume);
+
+  const KnownMechanisms km = remove_known_mechanisms(s);
+  const DirectSolver chol = factorize(s.k1.uu, true, opt.null_pivot_threshold);
+  double eigen_seconds = 0;
+  const std::vector<double> eig = smallest_eigenvalues(s.k1.uu, chol, opt.eigenvalues, s.mean_kn, &eigen_seconds);
+  const Moduli<dim> m1 = condense<dim>(s.k1, [&](::Vec b, ::Vec x) { chol.solve(b, x); }, v.system.cell.length,
+                                       volume, Vec<dim>::Zero());
+  // Strain mechanisms: the null space of the (symmetric) Schur complement of K(1).
+  const Eigen::SelfAdjointEigenSolver<Tensor<dim>> schur_eig(0.5 * (m1.schur + m1.schur.transpose()));
+  int strain_mechanisms = 0;
+  for (int a = 0; a < dim; ++a) strain_mechanisms += schur_eig.eigenvalues()[a] < 1e-9 * s.mean_kn;
+  const bool positive_definite = chol.null_pivots == 0 && chol.negative_pivots == 0 && strain_mechanisms == 0 &&
+                                 !eig.empty() && eig.front() > 0;
+  // Unexpected mechanisms are named; the response of such a backbone is not computed.
+  std::vector<std::vector<GlobalId>> floppy;
+  if (chol.null_pivots > 0)
+    floppy = floppy_modes(s.k1.uu, s.numbering, g, s.mean_kn, int(chol.null_pivots) + 4, 1e-8, 1e-7);
+
+  // Without friction K = K(1) + K(2) is symmetric (central forces): its inertia says whether
+  // the prestress (K(2) is negative there, [AR] App. B) leaves the backbone stable.
+  std::optional<DirectSolver> ldl_k;
+  Moduli<dim> m;
+  std::int64_t gmres_iterations = 0;
+  if (positive_definite) {
+    if (!s.layout.rotations) ldl_k = factorize(s.k.uu, true, opt.null_pivot_threshold);
+    // K = K(1) + K(2): GMRES preconditioned by the K(1) factors (no second factorisation).
+    PreconditionedSolver gmres = krylov_with_factors(s.k.uu, chol, 1e-13);
+    m = condense<dim>(s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, v.system.cell.length, volume,
+                      Vec<dim>(v.stress.diagonal()));
+    gmres_iterations = gmres.iterations;
+  }
+
+  // Counts, eq. (19)-(20).
+  const std::int64_t n_star = s.numbering.grains;
+  const std::int64_t other = chol.null_pivots > 0 ? std::int64_t(floppy.size()) : 0;
+  const std::int64_t k = dim + std::int64_t(km.divalent.size()) + other + strain_mechanisms;
+  const std::int64_t nf = s.dof();
+  const std::int64_t h = s.layout.rows_per_contact() * s.contacts + k - nf;
+  const Hyperstaticity eq37 = hyperstaticity<dim>(s.contacts, n_star, std::int64_t(km.divalent.size()), s.layout.rotations);
+  const std::vector<GlobalId> rattlers = gather_rattlers(v);
+
+  nlohmann::json j;
+  j["file"] = opt.file.string();
+  j["dimension"] = dim;
+  j["n"] = v.n;
+  j["friction"] = std::isinf(v.friction) ? nlohmann::json("inf") : nlohmann::json(v.friction);
+  j["phi"] = v.phi;
+  j["pressure"] = v.pressure;
+  j["force_threshold"] = v.force_threshold;
+  j["backbone_grains"] = n_star;
+  j["backbone_contacts"] = s.contacts;
+  j["rattlers"] = std::int64_t(rattlers.size());
+  j["grain_dofs"] = g;
+  j["N_f"] = nf;
+  j["G_rows"] = s.layout.rows_per_contact() * s.contacts;
+  j["mechanisms"] = k;
+  j["trivial_mechanisms"] = dim;
+  j["divalent_mechanisms"] = std::int64_t(km.divalent.size());
+  j["other_mechanisms"] = other;
+  j["null_pivots"] = chol.null_pivots;
+  j["strain_mechanisms"] = strain_mechanisms;
+  j["rattler_mechanisms"] = std::int64_t(rattlers.size()) * g;
+  nlohmann::json div = nlohmann::json::array();
+  for (const auto& d : km.divalent) div.push_back({{"grain", d.grain}, {"neighbours", {d.neighbours[0], d.neighbours[1]}}});
+  j["divalent_grains"] = div;
+  j["other_mechanism_grains"] = floppy;
+  j["rattler_grains"] = rattlers;
+  j["divalent_mode_residual"] = km.divalent_residual;
+  j["pinned_grain"] = km.pinned_grain;
+  j["negative_pivots"] = chol.negative_pivots;
+  j["smallest_eigenvalues_over_mean_kn"] = eig;
+  j["H"] = h;
+  j["H_over_Nf"] = double(h) / double(n_star * g);
+  j["H_eq37"] = eq37.degree;
+  j["H_over_Nf_eq37"] = eq37.per_dof;
+  j["isostatic"] = h == 0 && k == dim;
+  j["positive_definite"] = positive_definite;
+  if (ldl_k) {
+    j["K_negative_pivots"] = ldl_k->negative_pivots;
+    j["K_null_pivots"] = ldl_k->null_pivots;
+    j["K_positive_definite"] = ldl_k->negative_pivots == 0 && ldl_k->null_pivots == 0;
+  } else {
+    j["K_negative_pivots"] = j["K_null_pivots"] = j["K_positive_definite"] = nullptr;
+  }
+  j["virtual_work_residual"] = vw.residual;
+  j["virtual_work_grain_residual"] = vw.grain_residual;
+  j["max_net_grain_force"] = vw.max_grain_force;
+  j["prescribed_stress_source"] = stress_source;
+  std::vector<double> sig(sigma.data(), sigma.data() + dim), sig_f(vw.stress_from_forces.data(), vw.stress_from_forces.data() + dim);
+  j["prescribed_stress"] = sig;
+  j["stress_from_forces"] = sig_f;
+  j["mean_kn"] = s.mean_kn;
+  j["gmres_iterations_K"] = gmres_iterations;
+
+  // With an unexpected mechanism the response is not defined: the moduli are null.
+  j["moduli_valid"] = positive_definite;
+  j.update(moduli_json(m, positive_definite));
+  j["constitutive"] = moduli_json(m1, positive_definite);
+  // eq. (30), Hertz monodisperse 3D only: the packing's own z = 2 N_c*/n, Phi and Z(5/3).
+  const auto& mat = v.deck.material;
+  const double z = 2.0 * double(s.contacts) / double(v.n);
+  const double z53 = z_five_thirds(v);
+  j["z"] = z;
+  j["Z_5_3"] = z53;
+  if (dim == 3 && mat.normal_law == "hertz" && v.deck.sample.distribution == "monodisperse") {
+    const double e_tilde = mat.young_modulus / (1 - mat.poisson_ratio * mat.poisson_ratio);
+    const double b30 = 1.0 / (2.0 * z53) * std::pow(z * v.phi / (3.0 * std::numbers::pi), 2.0 / 3.0) *
+                       std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure);
+    j["bulk_modulus_eq30"] = b30;
+    j["bulk_modulus_over_eq30"] = positive_definite ? nlohmann::json(m.bulk / b30) : nlohmann::json();
+    j["bulk_modulus_reduced"] = positive_definite ? nlohmann::json(m.bulk / (std::pow(e_tilde, 2.0 / 3.0) *
+                                                                               std::cbrt(v.pressure)))
+                                                  : nlohmann::json();
+  } else {
+    j["bulk_modulus_eq30"] = nullptr;
+  }
+  int size = 1;
+  MPI_Comm_size(world, &size);
+  j["ranks"] = size;
+  j["partition"] = {{"method", s.numbering.metis ? "metis" : "none (one rank)"},
+                    {"edge_cut_metis", s.numbering.edge_cut_metis},
+                    {"edge_cut_spatial", s.numbering.edge_cut_spatial}};
+  j["timings_seconds"] = {{"assembly", s.assembly_seconds},
+                          {"cholesky_K1", chol.seconds},
+                          {"eigensolve", eigen_seconds},
+                          {"condensation_K1", m1.seconds},
+                          {"condensation_K_gmres", m.seconds},
+                          {"ldlt_K", ldl_k ? ldl_k->seconds : 0.0},
+                          {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+  return j;
+}
+
+std::string fixed(const nlohmann::json& v) {
+  if (v.is_null()) return "-";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g", v.get<double>());
+  return b;
+}
+std::string count(const nlohmann::json& v) { return std::to_string(v.get<long long>()); }
+std::string yes_no(const nlohmann::json& v) { return v.is_null() ? "-" : v.get<bool>() ? "yes" : "no"; }
+
+/// The readable summary rank 0 prints: (label, value) lines.
+std::string table(const nlohmann::json& j) {
+  const auto& t = j["timings_seconds"];
+  const auto& part = j["partition"];
+  std::string eig;
+  for (const auto& e : j["smallest_eigenvalues_over_mean_kn"]) eig += fixed(e) + " ";
+  const std::vector<std::pair<std::string, std::string>> lines = {
+      {"dimension, n, ranks", count(j["dimension"]) + ", " + count(j["n"]) + ", " + count(j["ranks"])},
+      {"friction mu", j["friction"].dump()},
+      {"backbone grains, contacts", count(j["backbone_grains"]) + ", " + count(j["backbone_contacts"])},
+      {"N_f, rows of G", count(j["N_f"]) + ", " + count(j["G_rows"])},
+      {"virtual work |tG f - F|/|F|", fixed(j["virtual_work_residual"]) + " (grain rows " +
+                                          fixed(j["virtual_work_grain_residual"]) + ", Sigma: " +
+                                          j["prescribed_stress_source"].get<std::string>() + ")"},
+      {"mechanisms k", count(j["mechanisms"]) + " = " + count(j["trivial_mechanisms"]) + " trivial + " +
+                           count(j["divalent_mechanisms"]) + " divalent + " + count(j["other_mechanisms"]) +
+                           " other + " + count(j["strain_mechanisms"]) + " strain"},
+      {"rattlers (not in G), their dofs", count(j["rattlers"]) + ", " + count(j["rattler_mechanisms"])},
+      {"divalent modes |K1 v|/(<k_n>|v|)", fixed(j["divalent_mode_residual"])},
+      {"smallest eig. (stiffened)/<k_n>", eig},
+      {"K(1) positive definite (stiffened)", yes_no(j["positive_definite"])},
+      {"K(1)+K(2) positive definite", yes_no(j["K_positive_definite"])},
+      {"H (eq. 19), H/N_f*", count(j["H"]) + ", " + fixed(j["H_over_Nf"])},
+      {"H, H/N_f* from counts (eq. 37)", fixed(j["H_eq37"]) + ", " + fixed(j["H_over_Nf_eq37"])},
+      {"isostatic", yes_no(j["isostatic"])},
+      {"bulk modulus B (K1+K2) / Pa", fixed(j["bulk_modulus"])},
+      {"B from K1 only / Pa", fixed(j["constitutive"]["bulk_modulus"])},
+      {"B eq. (30) / Pa, B / B(30)", fixed(j["bulk_modulus_eq30"]) + ", " + fixed(j.value("bulk_modulus_over_eq30", nlohmann::json()))},
+      {"shear modulus (diag. strains) / Pa", fixed(j["shear_modulus_diag"]) + " (K1 only " +
+                                                 fixed(j["constitutive"]["shear_modulus_diag"]) + ")"},
+      {"edge cut: METIS / spatial", count(part["edge_cut_metis"]) + " / " + count(part["edge_cut_spatial"])},
+      {"time: assembly, Cholesky, eig (s)", fixed(t["assembly"]) + ", " + fixed(t["cholesky_K1"]) + ", " + fixed(t["eigensolve"])},
+      {"time: condense K1, K (GMRES its)", fixed(t["condensation_K1"]) + ", " + fixed(t["condensation_K_gmres"]) + " (" +
+                                               count(j["gmres_iterations_K"]) + ")"},
+  };
+  std::vector<std::pair<std::string, std::string>> all = lines;
+  const auto& other = j["other_mechanism_grains"];
+  for (std::size_t k = 0; k < other.size() && k < 5; ++k) {
+    std::string ids;
+    for (const auto& id : other[k]) ids += count(id) + " ";
+    all.emplace_back("  other mechanism " + std::to_string(k + 1) + ": grains", ids);
+  }
+  std::string out = "granpack stiffness: " + j["file"].get<std::string>() + "\n";
+  for (const auto& [label, value] : all) {
+    out += "  " + label;
+    out.append(label.size() < 36 ? 36 - label.size() : 1, ' ');
+    out += value + "\n";
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string stiffness_file(MPI_Comm world, const StiffnessOptions& options) {
+  const FileMeta meta = read_file_meta(world, options.file);
+  nlohmann::json j = meta.dimension == 3 ? stiffness<3>(world, options, meta) : stiffness<2>(world, options, meta);
+  int rank = 0;
+  MPI_Comm_rank(world, &rank);
+  if (rank == 0) {
+    std::cout << table(j);
+    if (options.json) write_text_atomically(*options.json, j.dump(2) + "\n");
+  }
+  return j.dump();
+}
+
+}  // namespace granpack
+
+#endif  // GRANPACK_HAVE_RIGIDITY

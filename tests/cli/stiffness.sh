@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# End to end: `granpack stiffness` on 2 ranks on the Hertz FCC crystal (run here from the CI
+# deck): exit 0, the table, every required JSON key with the crystal's values (only the 3
+# trivial mechanisms, H from eq. 19, positive definite); bad arguments and files exit 2.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+fail=0; pass=0
+check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
+
+mpiexec -n 2 "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/fcc_hertz.toml" -o "$scratch/fcc" -q > "$scratch/run.txt" 2>&1
+check "fcc run exits 0" "[ $? -eq 0 ]"
+mpiexec -n 2 "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --json "$scratch/s.json" > "$scratch/s.txt" 2>&1
+check "stiffness exits 0 ($(tail -3 "$scratch/s.txt"))" "[ $? -eq 0 ]"
+check "table printed once" "[ \$(grep -c 'mechanisms k' '$scratch/s.txt') -eq 1 ]"
+/usr/bin/python3 - "$scratch/s.json" <<'PY' > "$scratch/py.txt" 2>&1
+import json, sys
+j = json.load(open(sys.argv[1]))
+need = ["mechanisms", "trivial_mechanisms", "divalent_mechanisms", "H", "H_over_Nf", "isostatic",
+        "positive_definite", "virtual_work_residual", "bulk_modulus", "bulk_modulus_eq30",
+        "shear_modulus_diag", "partition", "timings_seconds", "divalent_grains", "rattler_grains"]
+missing = [k for k in need if k not in j]
+assert not missing, missing
+assert j["ranks"] == 2 and j["n"] == 256, (j["ranks"], j["n"])
+assert j["mechanisms"] == 3 and j["trivial_mechanisms"] == 3 and j["divalent_mechanisms"] == 0, j["mechanisms"]
+assert j["H"] == 3 * 1536 + 3 - (6 * 256 + 3), j["H"]
+assert j["positive_definite"] is True and j["isostatic"] is False
+assert j["virtual_work_residual"] < 1e-3, j["virtual_work_residual"]
+assert j["bulk_modulus"] > 0 and j["shear_modulus_diag"] > 0
+PY
+check "JSON keys and FCC values ($(cat "$scratch/py.txt"))" "[ $? -eq 0 ]"
+
+"$GRANPACK_EXE" stiffness "$scratch/does_not_exist.h5" > "$scratch/m.txt" 2>&1
+check "missing file: exit 2" "[ $? -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/m.txt'"
+"$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --null-pivot 0 > "$scratch/b.txt" 2>&1
+check "bad --null-pivot: exit 2" "[ $? -eq 2 ]"
+
+echo "stiffness.sh: $pass passed, $fail failed"
+[ $fail -eq 0 ]
