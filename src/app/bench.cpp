@@ -246,6 +246,11 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   const double grown = global_sum(world, std::max(0.0, rss_peak - rss_base));
   const double pstep = double(n) * double(o.steps) / wall / ranks;
   const auto& obs = engine.observables();
+  // Communication volume: every step, forward sends position, velocity and spin of each
+  // ghost (9 doubles) and reverse returns its force and torque (6 doubles).
+  const double ghosts = global_sum(world, static_cast<double>(p.n_ghost()));
+  const double ghosts_max = global_max(world, static_cast<double>(p.n_ghost()));
+  const double owned_max = global_max(world, static_cast<double>(p.n_owned()));
   const double pressure_end = obs.stress.trace() / 3;
 
   char buf[2048];
@@ -260,7 +265,9 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       "  breakdown (mean over ranks): forces %.1f %%, neighbours %.1f %%, communication %.1f %%, "
       "integration %.1f %%, other %.1f %%\n"
       "  memory: peak RSS %.1f MiB per rank (max), %.0f bytes per grain above the start-up "
-      "footprint\n",
+      "footprint\n"
+      "  ghosts: %.0f in all (largest rank: %.0f for %.0f owned), halo traffic %.3g MB per step "
+      "per rank\n",
       static_cast<long long>(n), o.file.filename().c_str(), o.replicate[0], o.replicate[1],
       o.replicate[2], ranks, static_cast<long long>(o.steps), static_pressure,
       static_cast<long long>(static_contacts), 2.0 * double(static_contacts) / double(n), mean_force,
@@ -269,7 +276,7 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       static_cast<long long>(obs.contacts), pressure_end, pstep, 100 * phases[0] / wall,
       100 * phases[1] / wall, 100 * phases[2] / wall, 100 * phases[3] / wall,
       100 * (wall - phases[0] - phases[1] - phases[2] - phases[3]) / wall, rss_max / 1048576.0,
-      grown / double(n));
+      grown / double(n), ghosts, ghosts_max, owned_max, ghosts_max * 15 * 8 / 1e6);
   std::string report = root ? std::string(buf) : std::string();
   if (o.json && root) {
     std::ofstream f(*o.json);
@@ -278,11 +285,13 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
                   "\"skin\": %.17g, \"wall\": %.6g, \"particle_steps_per_s_per_rank\": %.6g, "
                   "\"forces\": %.6g, \"neighbor\": %.6g, \"comm\": %.6g, \"integrate\": %.6g, "
                   "\"rebuilds\": %lld, \"static_pressure\": %.17g, \"static_contacts\": %lld, "
-                  "\"rss_max_bytes\": %.6g, \"bytes_per_grain\": %.6g}\n",
+                  "\"rss_max_bytes\": %.6g, \"bytes_per_grain\": %.6g, \"ghosts\": %.0f, "
+                  "\"ghosts_max\": %.0f, \"owned_max\": %.0f}\n",
                   static_cast<long long>(n), ranks, static_cast<long long>(o.steps), s.dt, s.skin,
                   wall, pstep, phases[0], phases[1], phases[2], phases[3],
                   static_cast<long long>(engine.rebuilds() - rebuilds0), static_pressure,
-                  static_cast<long long>(static_contacts), rss_max, grown / double(n));
+                  static_cast<long long>(static_contacts), rss_max, grown / double(n), ghosts,
+                  ghosts_max, owned_max);
     f << buf;
   }
   return report;
