@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
   std::string bench_data, bench_forces, bench_json;
   auto* bench_cmd = app.add_subcommand("bench", "time the MD engine on a dense packing (docs/performance.md)");
   bench_cmd->add_option("file", bench.file, "3D packing (.h5), e.g. docs/data/A_n4000_seed1.h5")->required();
-  bench_cmd->add_option("--replicate", bench.replicate, "periodic copies per axis, e.g. 2 2 2")->expected(3);
+  bench_cmd->add_option("--replicate", bench.replicate, "periodic copies per axis, e.g. 2 2 2");
   bench_cmd->add_option("--steps", bench.steps, "timed steps (default 1000)")->check(CLI::PositiveNumber);
   bench_cmd->add_option("--velocity", bench.velocity_rms, "initial rms velocity per axis, m/s (default 1e-3)");
   bench_cmd->add_option("--lammps-data", bench_data, "also write the initial state as a LAMMPS data file");
