@@ -11,6 +11,7 @@
 #include "granpack/app/stiffness.h"
 #include "granpack/rigidity/petsc_support.h"
 #endif
+#include "granpack/app/bench.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/prep/run_deck.h"
@@ -78,6 +79,16 @@ int main(int argc, char** argv) {
   stiffness_cmd->add_option("--eigenvalues", stiffness_eigenvalues,
                             "smallest eigenvalues of the stiffened K(1) to report (default 6)")
       ->check(CLI::Range(1, 1000));
+  granpack::BenchOptions bench;
+  std::string bench_data, bench_forces, bench_json;
+  auto* bench_cmd = app.add_subcommand("bench", "time the MD engine on a dense packing (docs/performance.md)");
+  bench_cmd->add_option("file", bench.file, "3D packing (.h5), e.g. docs/data/A_n4000_seed1.h5")->required();
+  bench_cmd->add_option("--replicate", bench.replicate, "periodic copies per axis, e.g. 2 2 2");
+  bench_cmd->add_option("--steps", bench.steps, "timed steps (default 1000)")->check(CLI::PositiveNumber);
+  bench_cmd->add_option("--velocity", bench.velocity_rms, "initial rms velocity per axis, m/s (default 1e-3)");
+  bench_cmd->add_option("--lammps-data", bench_data, "also write the initial state as a LAMMPS data file");
+  bench_cmd->add_option("--static-forces", bench_forces, "also write the static force on each grain");
+  bench_cmd->add_option("--json", bench_json, "also write the results as JSON to this file");
   auto* info_cmd = app.add_subcommand("info", "what a granpack HDF5 file holds");
   info_cmd->add_option("file", file, "granpack HDF5 file")->required();
 
@@ -96,6 +107,12 @@ int main(int argc, char** argv) {
       if (ckpt_steps >= 0) run.checkpoint_every_steps = ckpt_steps;
       if (ckpt_seconds >= 0) run.checkpoint_every_seconds = ckpt_seconds;
       code = granpack::run_deck(MPI_COMM_WORLD, run);
+    } else if (*bench_cmd) {
+      if (!bench_data.empty()) bench.lammps_data = bench_data;
+      if (!bench_forces.empty()) bench.static_forces = bench_forces;
+      if (!bench_json.empty()) bench.json = bench_json;
+      std::string text = granpack::run_bench(MPI_COMM_WORLD, bench);
+      if (root) std::cout << text;
     } else if (*info_cmd) {
       std::string text = granpack::describe_file(MPI_COMM_WORLD, file);
       if (root) std::cout << text;

@@ -20,6 +20,23 @@ std::vector<double> sendrecv(MPI_Comm comm, const std::vector<double>& out, int 
                static_cast<int>(n_in), MPI_DOUBLE, from, 12, comm, MPI_STATUS_IGNORE);
   return in;
 }
+
+/// Exchange of a message whose length the receiver knows (forward/reverse: the ghost lists
+/// are fixed between rebuilds): one MPI_Sendrecv, or a copy when both partners are this rank
+/// (one rank along the axis: the periodic image of our own grains).
+void exchange_known(MPI_Comm comm, const std::vector<double>& out, std::vector<double>& in,
+                    std::size_t n_in, int to, int from) {
+  int me = 0;
+  MPI_Comm_rank(comm, &me);
+  if (to == me && from == me) {
+    GRANPACK_CHECK(out.size() == n_in, "halo: ghost count changed");
+    in.assign(out.begin(), out.end());
+    return;
+  }
+  in.resize(n_in);
+  MPI_Sendrecv(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, to, 13, in.data(),
+               static_cast<int>(n_in), MPI_DOUBLE, from, 13, comm, MPI_STATUS_IGNORE);
+}
 }  // namespace
 
 template <int dim>
@@ -62,17 +79,17 @@ void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, cons
 
 template <int dim> void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
   constexpr int per = 2 * dim + rot_dim<dim>;
-  std::vector<double> buf;
+  std::vector<double>& buf = out_;
+  std::vector<double>& in = in_;
   for (const Swap& sw : swaps_) {
-    buf.clear();
-    buf.reserve(sw.send.size() * per);
+    buf.resize(sw.send.size() * per);
+    double* o = buf.data();
     for (std::size_t i : sw.send) {
-      for (int a = 0; a < dim; ++a) buf.push_back(p.position[i][a] + (a == sw.axis ? sw.shift : 0.0));
-      for (int a = 0; a < dim; ++a) buf.push_back(p.velocity[i][a]);
-      for (int a = 0; a < rot_dim<dim>; ++a) buf.push_back(p.angular_velocity[i][a]);
+      for (int a = 0; a < dim; ++a) *o++ = p.position[i][a] + (a == sw.axis ? sw.shift : 0.0);
+      for (int a = 0; a < dim; ++a) *o++ = p.velocity[i][a];
+      for (int a = 0; a < rot_dim<dim>; ++a) *o++ = p.angular_velocity[i][a];
     }
-    std::vector<double> in = sendrecv(d.comm(), buf, sw.to, sw.from);
-    GRANPACK_CHECK(in.size() == sw.recv_count * per, "halo forward: ghost count changed");
+    exchange_known(d.comm(), buf, in, sw.recv_count * per, sw.to, sw.from);
     std::size_t pos = 0;
     for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
       for (int a = 0; a < dim; ++a) p.position[g][a] = in[pos++];
@@ -84,19 +101,20 @@ template <int dim> void Halo<dim>::forward(ParticleStore<dim>& p, const Decompos
 
 template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
   constexpr int per = dim + rot_dim<dim>;
-  std::vector<double> buf;
+  std::vector<double>& buf = out_;
+  std::vector<double>& in = in_;
   for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
     const Swap& sw = *it;
-    buf.clear();
+    buf.resize(sw.recv_count * per);
+    double* o = buf.data();
     for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
-      for (int a = 0; a < dim; ++a) buf.push_back(p.force[g][a]);
-      for (int a = 0; a < rot_dim<dim>; ++a) buf.push_back(p.torque[g][a]);
+      for (int a = 0; a < dim; ++a) *o++ = p.force[g][a];
+      for (int a = 0; a < rot_dim<dim>; ++a) *o++ = p.torque[g][a];
       p.force[g].setZero();
       p.torque[g].setZero();
     }
     // Back along the way they came: to the rank we received from.
-    std::vector<double> in = sendrecv(d.comm(), buf, sw.from, sw.to);
-    GRANPACK_CHECK(in.size() == sw.send.size() * per, "halo reverse: ghost count changed");
+    exchange_known(d.comm(), buf, in, sw.send.size() * per, sw.from, sw.to);
     std::size_t pos = 0;
     for (std::size_t i : sw.send) {
       for (int a = 0; a < dim; ++a) p.force[i][a] += in[pos++];

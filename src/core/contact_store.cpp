@@ -49,6 +49,18 @@ void ContactStore<dim>::erase_if(
   for (std::size_t k = 0; k < out; ++k) index_.emplace(keys_[k], k);
 }
 
+template <int dim> void ContactStore<dim>::permute(const std::vector<std::size_t>& order) {
+  std::vector<ContactKey> keys(order.size());
+  std::vector<ContactState<dim>> states(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    keys[k] = keys_[order[k]];
+    states[k] = states_[order[k]];
+  }
+  keys_.swap(keys);
+  states_.swap(states);
+  for (std::size_t k = 0; k < keys_.size(); ++k) index_[keys_[k]] = k;
+}
+
 template <int dim> void ContactStore<dim>::clear() {
   keys_.clear();
   states_.clear();

@@ -15,6 +15,23 @@ void ContactForceLoop<dim>::bind(const ParticleStore<dim>& p, const VerletList<d
   for (std::size_t i = 0; i < list.n_owned(); ++i)
     for (std::size_t k = off[i]; k < off[i + 1]; ++k)
       slot_[k] = store.find(ContactKey{p.id[i], p.id[nb[k]]});
+  // Lay the histories out in list order (those of no listed pair, if any, after them): the
+  // force loop then walks the store sequentially instead of jumping through it in insertion
+  // order (72-byte records; a cache miss per contact once the store outgrows the L2 cache).
+  std::vector<std::size_t> order;
+  order.reserve(store.size());
+  std::vector<std::ptrdiff_t> moved(store.size(), -1);
+  for (auto& s : slot_) {
+    if (s < 0) continue;
+    if (moved[static_cast<std::size_t>(s)] < 0) {
+      moved[static_cast<std::size_t>(s)] = static_cast<std::ptrdiff_t>(order.size());
+      order.push_back(static_cast<std::size_t>(s));
+    }
+    s = moved[static_cast<std::size_t>(s)];
+  }
+  for (std::size_t k = 0; k < store.size(); ++k)
+    if (moved[k] < 0) order.push_back(k);
+  store.permute(order);
 }
 
 template <int dim>
@@ -62,7 +79,10 @@ ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList
       sums.virial_elastic.noalias() +=
           (f.normal_elastic * g.normal + f.tangential) * r_ij.transpose();
       ++sums.interacting;
-      sums.max_overlap = std::max(sums.max_overlap, g.overlap / std::min(ri, p.radius[j]));
+      // max of h / min(R_i, R_j), dividing only when the maximum may change
+      const double r_min = std::min(ri, p.radius[j]);
+      if (g.overlap > sums.max_overlap * r_min)
+        sums.max_overlap = std::max(sums.max_overlap, g.overlap / r_min);
     }
   }
   return sums;

@@ -36,14 +36,18 @@ MdEngine<dim>::MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law,
 
 template <int dim> void MdEngine<dim>::rebuild(bool canonical) {
   auto& sys = ctx_.system;
-  sys.particles.clear_ghosts();
-  migrate(sys, *ctx_.decomposition);
-  // Grains in id order: every later sum (forces, virial, reductions) then follows an order
-  // that a restarted run reproduces from the checkpoint alone.
-  if (canonical) sys.particles.sort_owned_by_id();
-  // Ghost layer: every grain that can come within reach of ours before the next rebuild.
-  const double cutoff = 2 * max_radius_ + law_.interaction_range() + settings_.skin;
-  halo_.borders(sys.particles, *ctx_.decomposition, Vec<dim>::Constant(cutoff).cwiseQuotient(sys.cell.length));
+  {
+    ScopedPhase t(timers_.comm);
+    sys.particles.clear_ghosts();
+    migrate(sys, *ctx_.decomposition);
+    // Grains in id order: every later sum (forces, virial, reductions) then follows an order
+    // that a restarted run reproduces from the checkpoint alone.
+    if (canonical) sys.particles.sort_owned_by_id();
+    // Ghost layer: every grain that can come within reach of ours before the next rebuild.
+    const double cutoff = 2 * max_radius_ + law_.interaction_range() + settings_.skin;
+    halo_.borders(sys.particles, *ctx_.decomposition, Vec<dim>::Constant(cutoff).cwiseQuotient(sys.cell.length));
+  }
+  ScopedPhase t(timers_.neighbor);
   collectively(ctx_.world, [&] {
     list_.build(sys.particles, sys.cell, NeighborParams{settings_.skin, law_.interaction_range()});
   });
@@ -53,8 +57,15 @@ template <int dim> void MdEngine<dim>::rebuild(bool canonical) {
 
 template <int dim> void MdEngine<dim>::forces_and_observables() {
   auto& sys = ctx_.system;
-  const ForceSums<dim> sums = loop_.compute(sys, list_, law_, settings_.dt);
-  halo_.reverse(sys.particles, *ctx_.decomposition);
+  ForceSums<dim> sums;
+  {
+    ScopedPhase t(timers_.forces);
+    sums = loop_.compute(sys, list_, law_, settings_.dt);
+  }
+  {
+    ScopedPhase t(timers_.comm);
+    halo_.reverse(sys.particles, *ctx_.decomposition);
+  }
   if (settings_.mobile) hold_and_push();
 
   // One all-reduce for every global sum of the step.
@@ -74,6 +85,7 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   elastic_part = sums.virial_elastic;
   local[2 * nt] = ek;
   local[2 * nt + 1] = static_cast<double>(sums.interacting);
+  ScopedPhase t(timers_.comm);
   MPI_Allreduce(local, global, 2 * nt + 2, MPI_DOUBLE, MPI_SUM, ctx_.world);
   const double volume = sys.cell.volume();
   obs_.stress = Eigen::Map<Tensor<dim>>(global) / volume;
@@ -107,15 +119,25 @@ template <int dim> void MdEngine<dim>::step() {
   auto& sys = ctx_.system;
   auto& p = sys.particles;
   const double dt = settings_.dt;
-  kick(p, 0.5 * dt);
-  if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
-  drift(p, sys.cell, dt);
-  if (settings_.stress_control) CellControl<dim>::drift(sys.cell, dt);
+  {
+    ScopedPhase t(timers_.integrate);
+    kick(p, 0.5 * dt);
+    if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
+    drift(p, sys.cell, dt);
+    if (settings_.stress_control) CellControl<dim>::drift(sys.cell, dt);
+  }
 
   // One all-reduce decides for every rank: rebuild the lists, checkpoint, stop.
-  int bits = list_.needs_rebuild(p, sys.cell) ? kRequestRebuild : 0;
+  int bits = 0;
+  {
+    ScopedPhase t(timers_.neighbor);
+    bits = list_.needs_rebuild(p, sys.cell) ? kRequestRebuild : 0;
+  }
   if (ctx_.checkpointer) bits |= ctx_.checkpointer->local_request(sys.step + 1);
-  MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, ctx_.world);
+  {
+    ScopedPhase t(timers_.comm);
+    MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, ctx_.world);
+  }
   // A checkpoint inside a stage needs the stage's state (its frame); stages without one
   // checkpoint at their end (run_deck).
   if ((bits & kRequestCheckpoint) && !ctx_.frames.empty()) {
@@ -125,6 +147,7 @@ template <int dim> void MdEngine<dim>::step() {
   } else if (bits & kRequestRebuild) {
     rebuild(false);
   } else {
+    ScopedPhase t(timers_.comm);
     halo_.forward(p, *ctx_.decomposition);
   }
   finish_step();
@@ -135,6 +158,7 @@ template <int dim> void MdEngine<dim>::finish_step() {
   const double dt = settings_.dt;
   forces_and_observables();
   check_sanity();
+  ScopedPhase t(timers_.integrate);
   kick(sys.particles, 0.5 * dt);
   if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
   sys.time += dt;

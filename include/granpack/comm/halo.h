@@ -41,6 +41,9 @@ private:
     std::size_t recv_first = 0, recv_count = 0;
   };
   std::vector<Swap> swaps_;
+  // Message buffers kept between steps: no allocation (and no page faults of fresh large
+  // blocks) in forward()/reverse(), which run every step.
+  mutable std::vector<double> out_, in_;
 };
 
 extern template class Halo<2>;

@@ -25,7 +25,13 @@ struct HertzNormal {
   }
   /// K_N(N_new) / K_N(N_old) at fixed R*: (N_new/N_old)^{1/3} ([AR] eq. 2).
   double stiffness_ratio(double n_new, double n_old) const {
-    return n_new > 0 ? std::cbrt(n_new / n_old) : 0.0;
+    if (!(n_new > 0)) return 0.0;
+    // From one step to the next N changes by ~1e-6..1e-3 relative: there (1 + x)^{1/3} is
+    // its binomial series to x⁵ (truncation < 0.03 x⁶ < 3e-20), cheaper than std::cbrt.
+    const double x = n_new / n_old - 1.0;
+    if (std::abs(x) < 1e-3)
+      return 1.0 + x * (1.0 / 3.0 - x * (1.0 / 9.0 - x * (5.0 / 81.0 - x * (10.0 / 243.0 - x * (22.0 / 729.0)))));
+    return std::cbrt(n_new / n_old);
   }
 };
 

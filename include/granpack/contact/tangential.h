@@ -81,25 +81,42 @@ inline RotVec<dim> contact_rotation(const PairGeometry<dim>& g, const Vec<dim>& 
 template <int dim>
 inline Vec<dim> transport_tangential(const Vec<dim>& t, const RotVec<dim>& theta,
                                      const Vec<dim>& n) {
-  const double magnitude = t.norm();
-  if (magnitude == 0) return t;
+  const double magnitude2 = t.squaredNorm();
+  if (magnitude2 == 0) return t;
+  // The angles are ω dt ~ 1e-7..1e-4 rad in MD: below 1e-3 rad, cos x, sin(x)/x and
+  // (1 - cos x)/x² are evaluated by their Taylor series to x⁴ (truncation < x⁶/720 < 2e-21,
+  // far below rounding), which needs neither the angle's square root nor sin/cos: this
+  // function was ~15 % of a dense-packing step with std::sincos (docs/performance.md).
   Vec<dim> r;
   if constexpr (dim == 3) {
-    const double angle = theta.norm();
-    if (angle > 0) {
-      const Vec<3> k = theta / angle;
-      const double c = std::cos(angle), s = std::sin(angle);
-      r = c * t + s * k.cross(t) + ((1.0 - c) * k.dot(t)) * k;
+    const double x2 = theta.squaredNorm();
+    double c, s_over_x, omc_over_x2;  // cos x, sin(x)/x, (1 - cos x)/x²
+    if (x2 < 1e-6) {
+      c = 1.0 - x2 * (1.0 / 2.0 - x2 * (1.0 / 24.0));
+      s_over_x = 1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0));
+      omc_over_x2 = 0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0));
     } else {
-      r = t;
+      const double angle = std::sqrt(x2);
+      c = std::cos(angle);
+      s_over_x = std::sin(angle) / angle;
+      omc_over_x2 = (1.0 - c) / x2;
     }
+    r = c * t + s_over_x * theta.cross(t) + (omc_over_x2 * theta.dot(t)) * theta;
   } else {
-    const double c = std::cos(theta[0]), s = std::sin(theta[0]);
+    const double x = theta[0], x2 = x * x;
+    double c, s;
+    if (x2 < 1e-6) {
+      c = 1.0 - x2 * (1.0 / 2.0 - x2 * (1.0 / 24.0));
+      s = x * (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0)));
+    } else {
+      c = std::cos(x);
+      s = std::sin(x);
+    }
     r = Vec<2>(c * t[0] - s * t[1], s * t[0] + c * t[1]);
   }
   r -= n.dot(r) * n;
-  const double rn = r.norm();
-  return rn > 0 ? Vec<dim>(r * (magnitude / rn)) : Vec<dim>::Zero();
+  const double rn2 = r.squaredNorm();
+  return rn2 > 0 ? Vec<dim>(r * std::sqrt(magnitude2 / rn2)) : Vec<dim>::Zero();
 }
 
 }  // namespace granpack

@@ -64,6 +64,10 @@ public:
   /// Removes every contact for which pred(key, state) is true.
   void erase_if(const std::function<bool(const ContactKey&, const ContactState<dim>&)>& pred);
   void clear();
+  /// Reorders the contacts: new index k holds the contact that was at index order[k]
+  /// (`order` is a permutation of 0..size()-1). The force loop lays the histories out in
+  /// Verlet-list order, so that the hot loop reads them sequentially.
+  void permute(const std::vector<std::size_t>& order);
 
 private:
   std::vector<ContactKey> keys_;

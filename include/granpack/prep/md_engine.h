@@ -17,6 +17,7 @@
 #include "granpack/dynamics/equilibrium.h"
 #include "granpack/neighbor/verlet_list.h"
 #include "granpack/prep/run_context.h"
+#include "granpack/prep/step_timers.h"
 
 namespace granpack {
 
@@ -60,6 +61,8 @@ public:
   const Halo<dim>& halo() const { return halo_; }
   std::int64_t rebuilds() const { return rebuilds_; }
   double dt() const { return settings_.dt; }
+  /// Seconds spent in each phase of step() (and of the constructor) on this rank.
+  const StepTimers& timers() const { return timers_; }
   MdSettings<dim>& settings() { return settings_; }
 
 private:
@@ -84,6 +87,7 @@ private:
   VerletList<dim> list_;
   ContactForceLoop<dim> loop_;
   MdObservables<dim> obs_;
+  StepTimers timers_;
   double max_radius_ = 0;
   std::int64_t rebuilds_ = 0;
 };

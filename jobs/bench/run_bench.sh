@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# granpack vs LAMMPS on this machine (issue 8, docs/performance.md).
+#   bash jobs/bench/run_bench.sh [BUILD_DIR]
+# For n = 4000 (the committed A packing) and n = 32000 (the same replicated 2x2x2):
+#   1. static check (1 rank): both codes compute the forces of the grains at rest on the
+#      same configuration; compare_static.py reports the relative differences of the
+#      per-grain forces and of the pressure;
+#   2. timing: granpack then LAMMPS, on 1 then 2 ranks, the same state (positions, small
+#      random velocities), time step, skin and number of steps; summarize.py prints
+#      particle-steps/s per rank, the ratio granpack/LAMMPS and the 1 -> 2 rank efficiency.
+# Environment: STEPS (default 1000), SIZES (default "1x1x1 2x2x2"), BENCH_OUT (default
+# /tmp/granpack-bench), RANKS (default "1 2").
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${1:-${GRANPACK_BUILD_DIR:-$root/build}}
+exe=$build/granpack
+packing=$root/docs/data/A_n4000_seed1.h5
+out=${BENCH_OUT:-/tmp/granpack-bench}
+steps=${STEPS:-1000}
+sizes=${SIZES:-"1x1x1 2x2x2"}
+ranks=${RANKS:-"1 2"}
+py=/usr/bin/python3
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+
+[ -x "$exe" ] || { echo "run_bench: no granpack executable at $exe (build first)" >&2; exit 1; }
+if ! command -v lmp >/dev/null; then
+  echo "[bench] installing LAMMPS (Debian package lammps)"
+  sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends lammps >/dev/null
+fi
+
+echo "[bench] $(date -u +%FT%TZ) load: $(cut -d' ' -f1-3 /proc/loadavg)  granpack $("$exe" --version)  $(lmp -h | sed -n 's/^Large-scale.*- \(.*\)$/LAMMPS \1/p' | head -1)"
+for size in $sizes; do
+  read -r kx ky kz <<<"${size//x/ }"
+  dir=$out/$size
+  mkdir -p "$dir"
+  # 1. static forces, and the LAMMPS data file of the initial state
+  mpirun -np 1 "$exe" bench "$packing" --replicate "$kx" "$ky" "$kz" --steps 1 \
+    --static-forces "$dir/granpack_static.txt" --lammps-data "$dir/bench.data" \
+    --json "$dir/static.json" >"$dir/static.txt"
+  dt=$($py -c "import json,sys; print(repr(json.load(open(sys.argv[1]))['dt']))" "$dir/static.json")
+  skin=$($py -c "import json,sys; print(repr(json.load(open(sys.argv[1]))['skin']))" "$dir/static.json")
+  (cd "$dir" && mpirun -np 1 lmp -in "$here/lammps/in.granular" -var data bench.data -var dt "$dt" \
+     -var skin "$skin" -var steps 0 -var mode static -log lammps_static.log -screen none)
+  $py "$here/compare_static.py" "$dir/granpack_static.txt" "$dir/forces.dump" "$dir/lammps_static.log" \
+    | tee "$dir/static_check.txt"
+  # 2. timing, same load for both codes
+  for np in $ranks; do
+    echo "[bench] $size np=$np load $(cut -d' ' -f1 /proc/loadavg)"
+    mpirun -np "$np" "$exe" bench "$packing" --replicate "$kx" "$ky" "$kz" --steps "$steps" \
+      --json "$dir/granpack_np$np.json" >"$dir/granpack_np$np.txt"
+    (cd "$dir" && mpirun -np "$np" lmp -in "$here/lammps/in.granular" -var data bench.data \
+       -var dt "$dt" -var skin "$skin" -var steps "$steps" -var mode run \
+       -log "lammps_np$np.log" -screen none)
+  done
+done
+$py "$here/summarize.py" "$out" $sizes

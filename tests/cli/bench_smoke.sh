@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Smoke test of `granpack bench` (docs/performance.md) on the committed n = 4000 A packing,
+# 20 steps (a few seconds): the report and JSON are written, the static pressure is the
+# packing's 10 kPa and is the same on 1 and 2 ranks, the static-force and LAMMPS data files
+# hold every grain, and a bad --replicate is refused with exit code 2. The full benchmark
+# (jobs/bench/run_bench.sh, with LAMMPS) is not a CI test.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+fail=0; pass=0
+check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
+packing="$GRANPACK_SOURCE_DIR/docs/data/A_n4000_seed1.h5"
+
+for np in 1 2; do
+  mpiexec -n $np "$GRANPACK_EXE" bench "$packing" --steps 20 --json "$scratch/np$np.json" \
+    --static-forces "$scratch/forces$np.txt" --lammps-data "$scratch/bench$np.data" > "$scratch/np$np.txt" 2>&1
+  check "bench on $np rank(s) exits 0" "[ $? -eq 0 ]"
+  check "report on $np rank(s)" "grep -q 'particle-steps/s per rank' '$scratch/np$np.txt'"
+  check "static forces of every grain ($np)" "[ \$(grep -vc '^#' '$scratch/forces$np.txt') -eq 4000 ]"
+  check "LAMMPS data file ($np)" "grep -q '^4000 atoms' '$scratch/bench$np.data'"
+done
+/usr/bin/python3 - "$scratch/np1.json" "$scratch/np2.json" <<'PY' > "$scratch/py.txt" 2>&1
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+assert a["n"] == b["n"] == 4000 and a["ranks"] == 1 and b["ranks"] == 2, (a, b)
+assert abs(a["static_pressure"] - 1e4) < 1.0, a["static_pressure"]
+assert abs(a["static_pressure"] - b["static_pressure"]) < 1e-9 * 1e4, (a, b)
+assert a["static_contacts"] == b["static_contacts"], (a, b)
+assert a["dt"] == b["dt"] and a["particle_steps_per_s_per_rank"] > 0
+PY
+check "1 and 2 ranks agree on the static state ($(tail -1 "$scratch/py.txt"))" "[ $? -eq 0 ]"
+mpiexec -n 1 "$GRANPACK_EXE" bench "$packing" --replicate 0 1 1 > "$scratch/bad.txt" 2>&1
+check "--replicate 0 refused with exit 2" "[ $? -eq 2 ] && grep -q 'replicate' '$scratch/bad.txt'"
+
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]
