@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <numbers>
@@ -23,7 +24,31 @@ constexpr int kMaxNesting = 64;
 /// overflows at the 63rd digit (undefined behaviour).
 constexpr int kMaxBinaryDigits = 62;
 
-/// Refuses, before parsing, what toml11 3.7 cannot take: nested arrays and inline tables are
+/// Index of the first byte that does not belong to well-formed UTF-8 (no overlong forms, no
+/// surrogates, nothing above U+10FFFF), or npos.
+std::size_t invalid_utf8(const std::string& s) {
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const std::size_t len = c < 0x80                ? 1
+                            : c >= 0xC2 && c <= 0xDF ? 2
+                            : c >= 0xE0 && c <= 0xEF ? 3
+                            : c >= 0xF0 && c <= 0xF4 ? 4
+                                                     : 0;
+    if (len == 0 || i + len > s.size()) return i;
+    const unsigned lo = c == 0xE0 ? 0xA0 : c == 0xF0 ? 0x90 : 0x80;
+    const unsigned hi = c == 0xED ? 0x9F : c == 0xF4 ? 0x8F : 0xBF;
+    for (std::size_t k = 1; k < len; ++k) {
+      const auto b = static_cast<unsigned char>(s[i + k]);
+      if (b < (k == 1 ? lo : 0x80u) || b > (k == 1 ? hi : 0xBFu)) return i;
+    }
+    i += len;
+  }
+  return std::string::npos;
+}
+
+/// Refuses, before parsing, what toml11 3.7 cannot take: text that is not UTF-8 (TOML
+/// requires it, and toml11's error path for a bad byte inside a string reads out of bounds); nested arrays and inline tables are
 /// parsed recursively (about 10^4 levels overflow the stack: a crash), dotted keys in
 /// quadratic time (10^5 parts: minutes), long binary literals with undefined behaviour. A
 /// light scan: strings and comments are skipped, brackets and braces counted, the dots of a
@@ -37,6 +62,13 @@ void check_toml11_limits(const std::string& text, const std::string& file) {
                      ": arrays, inline tables or dotted keys nested more than " +
                      std::to_string(kMaxNesting) + " levels deep (see docs/deck.md)");
   };
+  if (const std::size_t bad = invalid_utf8(text); bad != std::string::npos) {
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>(text[bad]));
+    throw InputError(file + ":" +
+                     std::to_string(1 + std::count(text.begin(), text.begin() + bad, '\n')) +
+                     ": invalid UTF-8 (byte " + byte + "): a deck must be UTF-8 text");
+  }
   auto binary_digits = [&](std::size_t at) {  // at: just after "0b"
     int digits = 0;
     for (; at < n && (text[at] == '0' || text[at] == '1' || text[at] == '_'); ++at)

@@ -205,6 +205,18 @@ TEST(FuzzRegressions, NumbersBeyond64BitsOrDoublesAreRefused) {
             std::string::npos);
 }
 
+TEST(FuzzRegressions, InvalidUtf8IsRefusedBeforeToml11) {
+  // toml11 3.7 reports a bad byte inside a string by resetting a location to an iterator of
+  // another buffer: a heap-buffer-overflow read (ASan, libFuzzer build). TOML must be UTF-8.
+  EXPECT_EQ(deck_message(std::string(kHead) + "[[stage]]\nname = '''multi\n\xff'''\n"),
+            "r.toml:13: invalid UTF-8 (byte 0xFF): a deck must be UTF-8 text");
+  EXPECT_EQ(deck_message(std::string(kHead) + "[[stage]]\nname = \"\xed\xa0\x80\"\n"),
+            "r.toml:12: invalid UTF-8 (byte 0xED): a deck must be UTF-8 text");
+  // Well-formed UTF-8 is fine.
+  EXPECT_EQ(deck_message(std::string(kHead) + kLattice + "name = \"\xc3\xa9t\xc3\xa9 \xf0\x9f\x98\x80\"\n"),
+            "(accepted)");
+}
+
 TEST(FuzzRegressions, LargestSampleSeedGivesStageSeedsWithoutOverflow) {
   // The stage seed default [sample] seed + 1000 + index was a signed sum: undefined behaviour
   // for seed near INT64_MAX. Release builds happened to wrap to the right bits, so this case
