@@ -1,6 +1,8 @@
 #!/usr/bin/python3
-"""Table of run_bench.sh: particle-steps/s per rank of both codes, ratio, 1 -> 2 efficiency.
+"""Table of run_bench.sh: particle-steps/s per rank of both codes (best of the tries of each),
+ratio, 1 -> 2 efficiency.
 usage: summarize.py OUT_DIR SIZE..."""
+import glob
 import json
 import os
 import re
@@ -13,21 +15,23 @@ for size in sizes:
     d = os.path.join(out, size)
     rate = {}
     for np in (1, 2):
-        gp_file = os.path.join(d, f"granpack_np{np}.json")
-        lmp_file = os.path.join(d, f"lammps_np{np}.log")
-        if not (os.path.exists(gp_file) and os.path.exists(lmp_file)):
+        gps = [json.load(open(f)) for f in glob.glob(os.path.join(d, f"granpack_np{np}_*.json"))]
+        lmp_rates = []
+        for f in glob.glob(os.path.join(d, f"lammps_np{np}_*.log")):
+            m = re.search(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms",
+                          open(f).read())
+            if m:
+                lmp_rates.append(int(m[4]) * int(m[3]) / float(m[1]) / int(m[2]))
+        if not gps or not lmp_rates:
             continue
-        gp = json.load(open(gp_file))
-        m = re.search(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms",
-                      open(lmp_file).read())
-        lt, procs, steps, atoms = float(m[1]), int(m[2]), int(m[3]), int(m[4])
-        lmp_rate = atoms * steps / lt / procs
+        gp = max(gps, key=lambda g: g["particle_steps_per_s_per_rank"])
+        lmp_rate = max(lmp_rates)
         rate[np] = (gp["particle_steps_per_s_per_rank"], lmp_rate)
         w = gp["wall"]
         parts = "/".join(f"{100 * gp[k] / w:.0f}" for k in ("forces", "neighbor", "comm", "integrate"))
         print(f"{gp['n']:>8} {np:>5} {rate[np][0]:>12.4g} {lmp_rate:>12.4g} "
               f"{rate[np][0] / lmp_rate:>6.2f}   {parts}  ({gp['rebuilds']} rebuilds, "
-              f"{gp['bytes_per_grain']:.0f} B/grain)")
+              f"{gp['bytes_per_grain']:.0f} B/grain; best of {len(gps)} and {len(lmp_rates)} tries)")
     if 1 in rate and 2 in rate:
         print(f"{'':>8} parallel efficiency 1->2 ranks: granpack {rate[2][0] / rate[1][0]:.1%}, "
               f"LAMMPS {rate[2][1] / rate[1][1]:.1%}")
