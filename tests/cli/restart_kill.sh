@@ -16,7 +16,7 @@ trap 'pkill -9 -f -- "$scratch/" 2>/dev/null; rm -rf "$scratch"' EXIT
 RANDOM=2026
 deck=$scratch/restart.toml
 sed -e 's/^log_every = .*/log_every = 500/' "$GRANPACK_SOURCE_DIR/jobs/decks/ci/gas_small.toml" > "$deck"
-sed -i 's/^inertia_max = 1.0e-2$/inertia_max = 1.0e-2\nmax_steps = 6000/' "$deck"
+sed -i 's/^inertia_max = 1.0e-2$/inertia_max = 1.0e-2\nmax_steps = 15000/' "$deck"
 cat >> "$deck" <<'TOML'
 
 [[stage]]
@@ -25,14 +25,17 @@ kind = "pressure_steps"
 factor = 1.5
 count = 3
 inertia_max = 1.0e-2
-max_steps = 1500
+max_steps = 3000
 TOML
 # run OUT [args]: "-o OUT " comes first on the command line, so that pkill can find the run.
 run() { local o=$1; shift; mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$o" --checkpoint-every-steps 150 --checkpoint-every-seconds 0 -q "$@"; }
 
+t0=$(date +%s.%N)
 if ! run "$scratch/whole" > "$scratch/whole.txt" 2>&1; then
   echo "FAIL: the uninterrupted run failed"; tail -20 "$scratch/whole.txt"; exit 1
 fi
+# Kill delays scale with the machine's speed: 10 to 25 % of the uninterrupted wall time.
+wall=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.2f", b - a }')
 
 out=$scratch/chain
 kills=0 during_write=0 restarts=0 fresh=0
@@ -57,8 +60,7 @@ after_kill() {
 # Phase 1: kills at random instants.
 for attempt in $(seq 1 8); do
   start_leg
-  # 0.5 to 2.5 s: long enough to make progress, short enough to kill most legs.
-  sleep "$(awk -v r=$RANDOM 'BEGIN { printf "%.2f", 0.5 + 2.0 * r / 32767 }')"
+  sleep "$(awk -v r=$RANDOM -v w=$wall 'BEGIN { printf "%.2f", w * (0.10 + 0.15 * r / 32767) }')"
   if ! kill -0 $pid 2>/dev/null; then wait $pid; break; fi   # finished before the kill
   pkill -9 -f -- "-o $out " 2>/dev/null
   [ -f "$out/checkpoint.h5.tmp" ] && during_write=$((during_write + 1))
@@ -84,7 +86,7 @@ if [ ! -f "$out/final.h5" ]; then
     echo "FAIL: the last restart failed"; tail -20 "$scratch/chain.txt"; exit 1
   fi
 fi
-echo "kill -9: $kills kills ($during_write while a checkpoint was being written), $restarts restarts, $fresh fresh starts"
+echo "uninterrupted run: $wall s; kill -9: $kills kills ($during_write while a checkpoint was being written), $restarts restarts, $fresh fresh starts"
 if ! /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$scratch/whole/final.h5" "$out/final.h5"; then
   echo "restart kill: 0 passed, 1 failed"; tail -30 "$scratch/chain.txt"; exit 1
 fi
