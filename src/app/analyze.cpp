@@ -18,13 +18,7 @@ template <int dim> nlohmann::json analyze(MPI_Comm world, const AnalyzeOptions& 
                                          const FileMeta& meta) {
   const double reach = std::max(opt.pairs.r_max, 1.5);  // z(h) to 0.5 a, bonds to 1.4 a
   const PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, reach);
-  nlohmann::json j;
-  j["file"] = opt.file.string();
-  j["dimension"] = dim;
-  j["n"] = v.n;
-  j["friction"] = std::isinf(v.friction) ? nlohmann::json("inf") : nlohmann::json(v.friction);
-  j["phi"] = v.phi;
-  j["pressure"] = v.pressure;
+  nlohmann::json j = packing_summary(v, opt.file);
   j.update(analyze_network(v));
   j.update(analyze_pairs(v, opt.pairs));
   j["motifs"] = analyze_motifs(v);

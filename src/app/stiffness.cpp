@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "granpack/analysis/force_statistics.h"
+#include "granpack/app/analysis_sections.h"
 #include "granpack/app/packing_view.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/io/hdf5_store.h"
@@ -144,13 +145,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const Hyperstaticity eq37 = hyperstaticity<dim>(s.contacts, n_star, std::int64_t(km.divalent.size()), s.layout.rotations);
   const std::vector<GlobalId> rattlers = gather_rattlers(v);
 
-  nlohmann::json j;
-  j["file"] = opt.file.string();
-  j["dimension"] = dim;
-  j["n"] = v.n;
-  j["friction"] = std::isinf(v.friction) ? nlohmann::json("inf") : nlohmann::json(v.friction);
-  j["phi"] = v.phi;
-  j["pressure"] = v.pressure;
+  nlohmann::json j = packing_summary(v, opt.file);
   j["force_threshold"] = v.force_threshold;
   j["backbone_grains"] = n_star;
   j["backbone_contacts"] = s.contacts;

@@ -21,6 +21,7 @@
 #include <string>
 
 #include "../fuzz/fuzz_inputs.h"
+#include "mpi_world.h"
 #include "test_paths.h"
 
 using namespace granpack;
@@ -28,16 +29,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int s = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &s);
-  return s;
-}
+using test::world_rank;
+using test::world_size;
 std::int64_t sum_over_ranks(std::int64_t x) {
   std::int64_t s = 0;
   MPI_Allreduce(&x, &s, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);

@@ -17,6 +17,7 @@
 
 #include "granpack/io/atomic_file.h"
 #include "granpack/io/xdmf.h"
+#include "mpi_world.h"
 #include "test_paths.h"
 
 using namespace granpack;
@@ -24,16 +25,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int s = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &s);
-  return s;
-}
+using test::world_rank;
+using test::world_size;
 
 /// A scratch directory shared by all ranks; np runs apart (ctest may run them concurrently).
 fs::path scratch(const std::string& tag) {

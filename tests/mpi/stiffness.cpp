@@ -13,6 +13,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "mpi_world.h"
 #include "granpack/analysis/rigidity_blocks.h"
 #include "granpack/app/packing_view.h"
 #include "granpack/app/stiffness.h"
@@ -26,16 +27,8 @@ using namespace granpack;
 
 namespace {
 
-int rank_of() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int size_of() {
-  int s = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &s);
-  return s;
-}
+int rank_of() { return test::world_rank(); }
+int size_of() { return test::world_size(); }
 
 nlohmann::json run_stiffness(const std::filesystem::path& file, double threshold = 1e-4) {
   StiffnessOptions o;

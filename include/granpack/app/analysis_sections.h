@@ -2,11 +2,24 @@
 // The sections of `granpack analyze` (docs/analysis.md), each computing its quantities from a
 // PackingView on every rank (collective on the view's communicator) and returning them as
 // JSON (identical on every rank).
+#include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "granpack/app/packing_view.h"
 
 namespace granpack {
+
+/// What every result file starts with: file, dimension, n, friction, phi, pressure.
+template <int dim>
+nlohmann::json packing_summary(const PackingView<dim>& v, const std::filesystem::path& file) {
+  return {{"file", file.string()},
+          {"dimension", dim},
+          {"n", v.n},
+          {"friction", std::isinf(v.friction) ? nlohmann::json("inf") : nlohmann::json(v.friction)},
+          {"phi", v.phi},
+          {"pressure", v.pressure}};
+}
 
 /// Contact network and forces: counts, rattlers, z, z*, x_i under treatments I-III, H/N_f
 /// (eq. 37), P(f), Z(alpha) (eq. 27), strong/weak split (table VI), eq. (22), Delta Phi (eq. 28).
