@@ -7,7 +7,8 @@
 #
 # LEG_SECONDS (default: unlimited) stops each leg with SIGUSR1 after that many seconds, to
 # exercise the chain or to share the machine; granpack exits 75 ("checkpointed, resubmit")
-# and the loop continues from OUT/checkpoint.h5. Ctrl-C stops the loop after a checkpoint.
+# and the loop continues from OUT/checkpoint.h5. Ctrl-C (or SIGTERM to this script: a
+# script started in the background with & ignores SIGINT) stops the loop after a checkpoint.
 set -u
 deck=${1:?usage: mpirun_loop.sh DECK OUT [NP] [LEG_SECONDS]}
 out=${2:?usage: mpirun_loop.sh DECK OUT [NP] [LEG_SECONDS]}
@@ -16,7 +17,7 @@ leg=${4:-0}
 granpack=${GRANPACK:-$(dirname "$0")/../../build/granpack}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 stop=0
-trap 'stop=1; [ -n "${pid:-}" ] && kill -USR1 $pid' INT
+trap 'stop=1; [ -n "${pid:-}" ] && kill -USR1 $pid' INT TERM
 while :; do
   args=(run "$deck" -o "$out" --quiet)
   [ -f "$out/checkpoint.h5" ] && [ ! -f "$out/final.h5" ] && args+=(--restart "$out/checkpoint.h5")
