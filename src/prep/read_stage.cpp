@@ -11,6 +11,16 @@
 
 namespace granpack {
 
+template <int dim>
+void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c, const std::array<int, dim>* grid) {
+  ctx.system.cell = c.cell;
+  ctx.system.particles = std::move(c.particles);
+  ctx.system.contacts = std::move(c.contacts);
+  ctx.decomposition = grid ? std::make_unique<Decomposition<dim>>(ctx.world, *grid)
+                           : std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
+  distribute(ctx.system, *ctx.decomposition);
+}
+
 template <int dim> StageReport run_read(RunContext<dim>& ctx, const ReadStage& r) {
   GRANPACK_CHECK(ctx.system.particles.size() == 0,
                  "stage " << ctx.stage_index << " (read) needs an empty sample: it must come first");
@@ -19,13 +29,8 @@ template <int dim> StageReport run_read(RunContext<dim>& ctx, const ReadStage& r
     throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) + "] (read) file = \"" +
                      r.file + "\" holds a " + std::to_string(meta.dimension) + "D sample, the deck is " +
                      std::to_string(dim) + "D");
-  Configuration<dim> c = read_configuration<dim>(ctx.world, r.file);
-  ctx.system.cell = c.cell;
+  adopt_configuration(ctx, read_configuration<dim>(ctx.world, r.file));
   ctx.system.cell.rate.setZero();
-  ctx.system.particles = std::move(c.particles);
-  ctx.system.contacts = std::move(c.contacts);
-  ctx.decomposition = std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
-  distribute(ctx.system, *ctx.decomposition);
   std::int64_t n = static_cast<std::int64_t>(ctx.system.particles.n_owned());
   MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_INT64_T, MPI_SUM, ctx.world);
   if (n != ctx.deck->sample.n)
@@ -39,6 +44,8 @@ template <int dim> StageReport run_read(RunContext<dim>& ctx, const ReadStage& r
   return StageReport{};
 }
 
+template void adopt_configuration<2>(RunContext<2>&, Configuration<2>&&, const std::array<int, 2>*);
+template void adopt_configuration<3>(RunContext<3>&, Configuration<3>&&, const std::array<int, 3>*);
 template StageReport run_read<2>(RunContext<2>&, const ReadStage&);
 template StageReport run_read<3>(RunContext<3>&, const ReadStage&);
 

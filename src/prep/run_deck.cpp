@@ -6,7 +6,6 @@
 #include "granpack/comm/collective_error.h"
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
-#include "granpack/comm/migration.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/prep/checkpoint.h"
 #include "granpack/prep/stages.h"
@@ -54,21 +53,15 @@ std::string fmt_opt(const std::optional<double>& v) {
 template <int dim> void restore(RunContext<dim>& ctx, const std::filesystem::path& file,
                                 const RunState& state) {
   Configuration<dim> c = read_configuration<dim>(ctx.world, file);
-  ctx.system.cell = c.cell;
-  ctx.system.particles = std::move(c.particles);
-  ctx.system.contacts = std::move(c.contacts);
   ctx.system.time = c.meta.time;
   ctx.system.step = c.meta.step;
   int size = 1;
   MPI_Comm_size(ctx.world, &size);
-  if (size == state.ranks && state.grid.size() == dim) {
-    std::array<int, dim> grid;
-    std::copy(state.grid.begin(), state.grid.end(), grid.begin());
-    ctx.decomposition = std::make_unique<Decomposition<dim>>(ctx.world, grid);
-  } else {
-    ctx.decomposition = std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
-  }
-  distribute(ctx.system, *ctx.decomposition);
+  std::array<int, dim> grid{};
+  const bool same_grid = size == state.ranks && state.grid.size() == dim;
+  if (same_grid) std::copy(state.grid.begin(), state.grid.end(), grid.begin());
+  const std::array<int, dim>* chosen = same_grid ? &grid : nullptr;
+  adopt_configuration<dim>(ctx, std::move(c), chosen);
   ctx.material.friction = state.friction;
   ctx.material.damping = state.damping;
   ctx.stress = state.stress;

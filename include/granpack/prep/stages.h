@@ -1,7 +1,10 @@
 #pragma once
 // The stages a deck chains (docs/deck.md). Each function runs one stage on every rank
 // (collective on ctx.world) and returns its report.json entry.
+#include <array>
+
 #include "granpack/io/deck.h"
+#include "granpack/io/hdf5_store.h"
 #include "granpack/prep/run_context.h"
 
 namespace granpack {
@@ -20,6 +23,12 @@ template <int dim> StageReport run_ls_compress(RunContext<dim>& ctx, const LsCom
 template <int dim> StageReport run_expand(RunContext<dim>& ctx, const ExpandStage& p);
 template <int dim> StageReport run_pressure_steps(RunContext<dim>& ctx, const PressureStepsStage& p);
 template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixRattlersStage& p);
+
+/// Makes a configuration read from a file the sample: grains, contacts and cell (rate kept),
+/// a domain decomposition (the given grid, else one chosen from the cell's shape) and the
+/// grains and contacts moved to their spatial owners. Collective. Used by `read` and restarts.
+template <int dim> void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
+                                            const std::array<int, dim>* grid = nullptr);
 
 /// Removes the overlaps of randomly placed grains (fixed cell, soft repulsion, quench).
 template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx);
