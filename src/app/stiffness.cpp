@@ -94,6 +94,11 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   MaterialSpec material = v.deck.material;
   material.friction = v.friction;
   const ContactLaw<dim> law = contact_law_of<dim>(material);
+  // G and K of [GRC] appendix A (rotation rows of rolling resistance, distant attractions
+  // with their negative stiffness) are not assembled yet: refuse rather than ignore them.
+  if (law.cohesion || law.rolling)
+    throw NotImplemented(opt.file.string() + ": the stiffness of packings with cohesion or rolling "
+                         "resistance ([GRC]) is not implemented yet");
 
   if (v.backbone.metrics.backbone_contacts == 0)  // known on every rank (a global count)
     throw InputError(opt.file.string() + ": no force-carrying contact (N > " + std::to_string(opt.threshold) +

@@ -47,10 +47,27 @@ template <int dim> ContactLaw<dim> make_contact_law(const ContactLawParams& p) {
   law.damping = NormalDamping{p.damping_ratio};
   require(p.friction >= 0, "friction coefficient mu must be >= 0 (inf allowed)");  // NaN fails
   law.friction = CoulombFriction{p.friction};
-  if (p.cohesion_force != 0 || p.cohesion_range != 0)
-    throw NotImplemented("contact law: cohesion (F0, D0) is not implemented yet");
-  if (p.rolling_stiffness != 0 || p.rolling_friction != 0)
-    throw NotImplemented("contact law: rolling resistance (K_r, mu_r) is not implemented yet");
+  require(std::isfinite(p.cohesion_force) && p.cohesion_force >= 0,
+          "cohesion force F0 must be finite and >= 0");
+  require(std::isfinite(p.cohesion_range) && p.cohesion_range >= 0,
+          "cohesion range D0 must be finite and >= 0");
+  if (p.cohesion_force > 0 || p.cohesion_range > 0) {
+    // A zero range would make the attraction jump from -F0 to 0 as the contact opens (no
+    // escape velocity, eq. 7); a range without a force is a typo.
+    require(p.cohesion_force > 0 && p.cohesion_range > 0,
+            "cohesion needs both a force F0 > 0 and a range D0 > 0");
+    law.cohesion = Cohesion{p.cohesion_force, p.cohesion_range};
+  }
+  require(std::isfinite(p.rolling_stiffness) && p.rolling_stiffness >= 0,
+          "rolling stiffness K_r must be finite and >= 0");
+  require(p.rolling_friction >= 0, "rolling friction mu_r must be >= 0 (inf allowed)");
+  require(p.rolling_damping >= 0 && p.rolling_damping < 1,
+          "rolling damping zeta_r must be in [0, 1)");
+  if (p.rolling_stiffness > 0 || p.rolling_friction > 0 || p.rolling_damping > 0) {
+    require(p.rolling_stiffness > 0,
+            "rolling friction mu_r or damping zeta_r > 0 needs a rolling stiffness K_r > 0");
+    law.rolling = RollingResistance{p.rolling_stiffness, p.rolling_friction, p.rolling_damping};
+  }
   return law;
 }
 

@@ -77,7 +77,7 @@ ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList
       p.torque[j] += f.torque_j;
       sums.virial.noalias() += f.force_on_j * r_ij.transpose();
       sums.virial_elastic.noalias() +=
-          (f.normal_elastic * g.normal + f.tangential) * r_ij.transpose();
+          ((f.normal_elastic + f.normal_attractive) * g.normal + f.tangential) * r_ij.transpose();
       ++sums.interacting;
       // max of h / min(R_i, R_j), dividing only when the maximum may change
       const double r_min = std::min(ri, p.radius[j]);
@@ -90,13 +90,27 @@ ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList
 
 template <int dim>
 void ContactForceLoop<dim>::elastic_forces(const System<dim>& sys, const VerletList<dim>& list,
-                                           std::vector<Vec<dim>>& out) const {
+                                           const ContactLaw<dim>& law,
+                                           std::vector<Vec<dim>>& out,
+                                           std::vector<RotVec<dim>>* moments) const {
   out.assign(sys.particles.size(), Vec<dim>::Zero());
-  for_each_contact(sys, list, [&](std::size_t i, std::size_t j, const Vec<dim>& n,
+  if (moments) moments->assign(sys.particles.size(), RotVec<dim>::Zero());
+  const auto& radius = sys.particles.radius;
+  const double k_r = law.rolling ? law.rolling->k_r : 0.0;
+  for_each_contact(sys, list, [&](std::size_t i, std::size_t j, const Vec<dim>& r,
                                   const ContactState<dim>& st) {
-    const Vec<dim> f = st.normal_force * n + st.tangential_force;
+    const double d = r.norm();
+    const double h = radius[i] + radius[j] - d;
+    const Vec<dim> n = r / d;
+    const Vec<dim> f = (st.normal_force + law.attraction(h)) * n + st.tangential_force;
     out[j] += f;
     out[i] -= f;
+    if (!moments) return;
+    // Branch vectors to the middle of the overlap, as in ContactLaw::force (for a distant
+    // pair f is along n and its moments vanish whatever the branch).
+    const RotVec<dim> gamma = -k_r * st.rolling;  // rolling moment on j
+    (*moments)[j] += moment<dim>(Vec<dim>(-(radius[j] - 0.5 * h) * n), f) + gamma;
+    (*moments)[i] += moment<dim>(Vec<dim>((radius[i] - 0.5 * h) * n), Vec<dim>(-f)) - gamma;
   });
 }
 

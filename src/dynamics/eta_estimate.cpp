@@ -7,7 +7,8 @@
 namespace granpack {
 
 double EtaEstimate::worst_ratio(const EquilibriumMeasure& m) const {
-  return std::max({m.force / tol_.force, m.stress / tol_.stress, m.kinetic / tol_.kinetic});
+  const double moment = tol_.checks_moment() ? m.moment / tol_.moment : 0.0;
+  return std::max({m.force / tol_.force, m.stress / tol_.stress, m.kinetic / tol_.kinetic, moment});
 }
 
 std::optional<double> EtaEstimate::update_steps(const EquilibriumMeasure& m, std::int64_t step) {

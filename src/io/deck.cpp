@@ -178,6 +178,24 @@ MaterialSpec read_material(TableReader& r) {
   m.friction = r.number("friction", Range::non_negative(), "friction coefficient mu (inf allowed)");
   m.damping = r.number("damping", Range::half_open(0.0, 1.0),
                        "viscous damping zeta, fraction of critical");
+  // [GRC] cohesion and rolling resistance: optional, both keys of a pair or neither.
+  const Range finite = Range::half_open(0.0, std::numeric_limits<double>::infinity());
+  m.cohesion_force = r.number_or("cohesion_force", 0.0, finite,
+                                 "maximum attractive force F0 in N");
+  m.cohesion_range = r.number_or("cohesion_range", 0.0, finite,
+                                 "range D0 of the attraction in m");
+  if ((m.cohesion_force > 0) != (m.cohesion_range > 0))
+    r.fail(m.cohesion_force > 0 ? "cohesion_range" : "cohesion_force",
+           "cohesion needs both cohesion_force (F0 > 0, N) and cohesion_range (D0 > 0, m)");
+  m.rolling_stiffness = r.number_or("rolling_stiffness", 0.0, finite,
+                                    "rolling stiffness K_r in N m per radian");
+  m.rolling_friction = r.number_or("rolling_friction", 0.0, Range::non_negative(),
+                                   "rolling friction mu_r in m (inf allowed)");
+  m.rolling_damping = r.number_or("rolling_damping", 0.0, Range::half_open(0.0, 1.0),
+                                  "rolling damping zeta_r, fraction of critical (not in [GRC])");
+  if ((m.rolling_friction > 0 || m.rolling_damping > 0) && !(m.rolling_stiffness > 0))
+    r.fail("rolling_stiffness", std::string(m.rolling_friction > 0 ? "rolling_friction" : "rolling_damping") +
+                                    " > 0 needs a rolling_stiffness K_r > 0");
   r.finish();
   return m;
 }
@@ -244,11 +262,13 @@ LatticeStage read_lattice(TableReader& r, const SampleSpec& sample) {
 EquilibriumTolerances read_tolerances(TableReader& r) {
   EquilibriumTolerances t;
   t.force = r.number_or("tolerance_force", t.force, Range::positive(),
-                        "max net force per grain / (a^2 P)");
+                        "max net force per grain / F1 (F1 = max(F0, a^2 P))");
   t.stress = r.number_or("tolerance_stress", t.stress, Range::positive(),
-                         "max |sigma_aa - P| / P");
+                         "max |sigma_aa - P| / (F1 / a^2)");
   t.kinetic = r.number_or("tolerance_kinetic", t.kinetic, Range::positive(),
-                          "kinetic energy per grain / (P a^3)");
+                          "kinetic energy per grain / (F1 a)");
+  t.moment = r.number_or("tolerance_moment", t.moment, Range::positive(),
+                         "max net moment per grain / (F1 a) (inf: not checked)");
   return t;
 }
 

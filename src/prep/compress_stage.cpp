@@ -15,13 +15,20 @@
 namespace granpack {
 
 namespace {
+/// One progress line; the criteria are normalised by [AR]'s scales, or by F1 with cohesion
+/// (the labels say which), and the moment is shown when it is a criterion.
 std::string progress_line(std::int64_t step, double t, double phi, const EquilibriumMeasure& m,
-                          std::int64_t contacts, double steps_per_s) {
-  char buf[256];
+                          std::int64_t contacts, double steps_per_s, bool cohesive,
+                          bool with_moment) {
+  char moment[48] = "";
+  if (with_moment) std::snprintf(moment, sizeof moment, "  Gmax/F1a %.2e", m.moment);
+  char buf[320];
   std::snprintf(buf, sizeof buf,
-                "  step %10lld  t %.4e s  phi %.5f  |dP|/P %.2e  Fmax/a2P %.2e  Ek/Pa3 %.2e  "
-                "contacts %lld  %.0f steps/s",
-                static_cast<long long>(step), t, phi, m.stress, m.force, m.kinetic,
+                cohesive ? "  step %10lld  t %.4e s  phi %.5f  |dP|a/F1 %.2e  Fmax/F1 %.2e%s  "
+                           "Ek/F1a %.2e  contacts %lld  %.0f steps/s"
+                         : "  step %10lld  t %.4e s  phi %.5f  |dP|/P %.2e  Fmax/a2P %.2e%s  "
+                           "Ek/Pa3 %.2e  contacts %lld  %.0f steps/s",
+                static_cast<long long>(step), t, phi, m.stress, m.force, moment, m.kinetic,
                 static_cast<long long>(contacts), steps_per_s);
   return buf;
 }
@@ -65,10 +72,34 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
                   c.inertia_max ? std::to_string(*c.inertia_max).c_str() : "none", c.cell_mass,
                   s.dt);
     ctx.log->info(buf);
+    const MaterialSpec& mat = ctx.material;
+    if (mat.cohesion_force > 0) {
+      // [GRC] sec. II C: P* = P a^(dim-1) / F0 and kappa = a K_N / F0 (Hertz: (E a^2/F0)^(2/3)).
+      const double f0 = mat.cohesion_force;
+      const double kappa_f0 = mat.normal_law == "linear"
+                                  ? a * mat.normal_stiffness / f0
+                                  : std::pow(mat.young_modulus * a * a / f0, 2.0 / 3.0);
+      std::snprintf(buf, sizeof buf,
+                    "  cohesion: F0 = %.6g N, D0/a = %.3g, P* = %.6g, kappa = a K_N/F0 = %.6g, "
+                    "V* = sqrt(F0 D0 / m) = %.4g m/s",
+                    f0, mat.cohesion_range / a, (dim == 3 ? a * a : a) * P / f0, kappa_f0,
+                    std::sqrt(f0 * mat.cohesion_range / grain_mass));
+      ctx.log->info(buf);
+    }
+    if (mat.rolling_stiffness > 0) {
+      std::snprintf(buf, sizeof buf,
+                    "  rolling resistance: K_r = %.6g N m, mu_r/a = %.4g, zeta_r = %g",
+                    mat.rolling_stiffness, mat.rolling_friction / a, mat.rolling_damping);
+      ctx.log->info(buf);
+    }
   }
 
-  const double force_scale = (dim == 3 ? a * a : a) * P;
-  const double energy_scale = (dim == 3 ? a * a * a : a * a) * P;
+  // [AR] sec. III scales (a^2 P, P, P a^3), or [GRC] II D's built on F1 = max(F0, P a).
+  const EquilibriumScales scales =
+      EquilibriumScales::of(dim, a, P, ctx.material.cohesion_force);
+  const double force_scale = scales.force;
+  const bool with_moment = c.tolerance.checks_moment();
+  const bool cohesive = ctx.material.cohesion_force > 0;
   const std::int64_t check_every = 50;
   const std::int64_t log_every = ctx.deck->output.log_every;
   std::int64_t first_step = ctx.system.step;
@@ -98,7 +129,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
                           {"cell_mass", exact(s.cell.mass)}};
   });
   MdEngine<dim> engine(ctx, contact_law_of<dim>(ctx.material), s);
-  EquilibriumMeasure m = engine.measure(force_scale, P, energy_scale);
+  EquilibriumMeasure m = engine.measure(scales, with_moment);
   auto last_log = clock::now();
   std::int64_t last_log_step = ctx.system.step;
   EtaEstimate eta(c.tolerance);
@@ -115,7 +146,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
     }
     const std::int64_t done = ctx.system.step - first_step;
     if (done % check_every == 0) {
-      m = engine.measure(force_scale, P, energy_scale);
+      m = engine.measure(scales, with_moment);
       if (m.satisfies(c.tolerance)) {
         equilibrated = true;
         break;
@@ -143,7 +174,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
       const double rate = secs > 0 ? double(ctx.system.step - last_log_step) / secs : 0.0;
       const double phi = ctx.solid_fraction();
       ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, phi, m,
-                                      engine.observables().contacts, rate) +
+                                      engine.observables().contacts, rate, cohesive, with_moment) +
                         eta.update(m, ctx.system.step, rate, c.max_steps > 0 ? first_step + c.max_steps : -1));
       last_log = now;
       last_log_step = ctx.system.step;
@@ -152,7 +183,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
     after_step = true;
   }
   ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, ctx.solid_fraction(), m,
-                                  engine.observables().contacts, 0.0));
+                                  engine.observables().contacts, 0.0, cohesive, with_moment));
 
   const int min_contacts = ctx.material.friction > 0 ? 2 : dim + 1;
   const StateMetrics sm = state_metrics(ctx, engine, c.tolerance.force * force_scale, min_contacts);

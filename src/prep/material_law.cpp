@@ -23,6 +23,11 @@ template <int dim> ContactLaw<dim> contact_law_of(const MaterialSpec& m) {
   }
   p.damping_ratio = m.damping;
   p.friction = m.friction;
+  p.cohesion_force = m.cohesion_force;
+  p.cohesion_range = m.cohesion_range;
+  p.rolling_stiffness = m.rolling_stiffness;
+  p.rolling_friction = m.rolling_friction;
+  p.rolling_damping = m.rolling_damping;
   return make_contact_law<dim>(p);
 }
 

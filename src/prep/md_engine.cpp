@@ -245,22 +245,29 @@ template <int dim> void MdEngine<dim>::write_postmortem() {
 }
 
 template <int dim>
-EquilibriumMeasure MdEngine<dim>::measure(double force_scale, double stress_scale,
-                                          double energy_scale) {
+EquilibriumMeasure MdEngine<dim>::measure(const EquilibriumScales& scales, bool with_moment) {
   auto& sys = ctx_.system;
   std::vector<Vec<dim>> fel;
-  loop_.elastic_forces(sys, list_, fel);
-  std::vector<double> comp(fel.size());
-  double fmax = 0;
-  std::vector<double> norm2(sys.particles.n_owned(), 0.0);
-  for (int a = 0; a < dim; ++a) {
-    for (std::size_t i = 0; i < fel.size(); ++i) comp[i] = fel[i][a];
-    halo_.reverse_values(comp, *ctx_.decomposition);
-    for (std::size_t i = 0; i < norm2.size(); ++i) norm2[i] += comp[i] * comp[i];
-  }
-  for (double f2 : norm2) fmax = std::max(fmax, f2);
+  std::vector<RotVec<dim>> gel;
+  loop_.elastic_forces(sys, list_, law_, fel, with_moment ? &gel : nullptr);
+  // Largest norm over owned grains of a per-grain vector whose ghost parts still have to be
+  // added to their owners.
+  auto max_norm = [&](const auto& vecs, int components) {
+    std::vector<double> comp(vecs.size());
+    std::vector<double> norm2(sys.particles.n_owned(), 0.0);
+    for (int a = 0; a < components; ++a) {
+      for (std::size_t i = 0; i < vecs.size(); ++i) comp[i] = vecs[i][a];
+      halo_.reverse_values(comp, *ctx_.decomposition);
+      for (std::size_t i = 0; i < norm2.size(); ++i) norm2[i] += comp[i] * comp[i];
+    }
+    double m2 = 0;
+    for (double v2 : norm2) m2 = std::max(m2, v2);
+    return std::sqrt(global_max(ctx_.world, m2));
+  };
   EquilibriumMeasure m;
-  m.force = std::sqrt(global_max(ctx_.world, fmax)) / force_scale;
+  m.force = max_norm(fel, dim) / scales.force;
+  if (with_moment) m.moment = max_norm(gel, rot_dim<dim>) / scales.moment;
+  const double stress_scale = scales.stress, energy_scale = scales.energy;
   double err = 0;
   for (int a = 0; a < dim; ++a)
     if (!settings_.cell.fixed[a])

@@ -91,6 +91,27 @@ TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
   EXPECT_NE(message_of(with("kind = \"set\"\nfriction = 0.15", "kind = \"set\"")).find("changes nothing"), std::string::npos);
   EXPECT_NE(message_of(with("seed = 7", "seed = 7\nseeed = 8")).find("t.toml:8: [sample] seeed: unknown key"), std::string::npos);
   EXPECT_NE(message_of(with("[sample]", "sample = 3\n[sampl]")).find("'sample' must be a table"), std::string::npos);
+  // [GRC] parts: both cohesion keys or neither, a rolling friction needs a stiffness, finite.
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\ncohesion_force = 1e-3")).find("[material] cohesion_range: cohesion needs both"), std::string::npos);
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\ncohesion_range = 1e-7")).find("[material] cohesion_force: cohesion needs both"), std::string::npos);
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\ncohesion_force = inf\ncohesion_range = 1e-7")).find("[material] cohesion_force: = inf is out of range"), std::string::npos);
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\nrolling_friction = 1e-6")).find("[material] rolling_stiffness: rolling_friction > 0 needs"), std::string::npos);
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\nrolling_stiffness = -1.0")).find("[material] rolling_stiffness: = -1.0 is out of range"), std::string::npos);
+}
+
+TEST(Deck, CohesionAndRollingResistanceKeys) {
+  std::string t = kGood;
+  t.replace(t.find("damping = 0.5"), 13,
+            "damping = 0.5\ncohesion_force = 2e-3\ncohesion_range = 1e-7\n"
+            "rolling_stiffness = 1e-4\nrolling_friction = inf");
+  const Deck d = parse_deck(t, "c.toml");
+  EXPECT_DOUBLE_EQ(d.material.cohesion_force, 2e-3);
+  EXPECT_DOUBLE_EQ(d.material.cohesion_range, 1e-7);
+  EXPECT_DOUBLE_EQ(d.material.rolling_stiffness, 1e-4);
+  EXPECT_TRUE(std::isinf(d.material.rolling_friction));
+  const Deck plain = parse_deck(kGood, "good.toml");
+  EXPECT_EQ(plain.material.cohesion_force, 0.0);
+  EXPECT_EQ(plain.material.rolling_stiffness, 0.0);
 }
 
 TEST(Deck, PerAxisStressAndFixedAxes) {

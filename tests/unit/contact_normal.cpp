@@ -193,11 +193,34 @@ TEST(ContactLawFactory, ValidatesParameters) {
   });
   p.friction = std::numeric_limits<double>::infinity();
   EXPECT_TRUE(make_contact_law<2>(p).friction.unlimited());
+  // Cohesion needs both F0 and D0; rolling friction needs a rolling stiffness.
+  bad([](ContactLawParams& q) { q.cohesion_force = 1e-3; });
+  bad([](ContactLawParams& q) { q.cohesion_range = 1e-6; });
+  bad([](ContactLawParams& q) {
+    q.cohesion_force = -1e-3;
+    q.cohesion_range = 1e-6;
+  });
+  bad([](ContactLawParams& q) { q.rolling_friction = 1e-5; });
+  bad([](ContactLawParams& q) { q.rolling_damping = 0.5; });
+  bad([](ContactLawParams& q) {
+    q.rolling_stiffness = 1;
+    q.rolling_damping = 1.0;
+  });
+  bad([](ContactLawParams& q) { q.rolling_stiffness = -1; });
+  bad([](ContactLawParams& q) {
+    q.rolling_stiffness = 1;
+    q.rolling_friction = std::numeric_limits<double>::quiet_NaN();
+  });
+  EXPECT_FALSE(make_contact_law<3>(p).cohesion.has_value());
+  EXPECT_FALSE(make_contact_law<3>(p).rolling.has_value());
   p.cohesion_force = 1e-3;
-  EXPECT_THROW(make_contact_law<3>(p), NotImplemented);
-  p.cohesion_force = 0;
+  p.cohesion_range = 1e-6;
   p.rolling_stiffness = 1.0;
-  EXPECT_THROW(make_contact_law<2>(p), NotImplemented);
+  p.rolling_friction = 1e-5;
+  const ContactLaw<2> law = make_contact_law<2>(p);
+  ASSERT_TRUE(law.cohesion && law.rolling);
+  EXPECT_EQ(law.interaction_range(), 1e-6);
+  EXPECT_EQ(law.rolling->mu_r, 1e-5);
 }
 
 TEST(ContactCollisionTimes, ClosedForms) {

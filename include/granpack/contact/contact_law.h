@@ -1,8 +1,8 @@
 #pragma once
 // The contact law: independent sub-models (normal elasticity, normal damping, tangential
-// elasticity, Coulomb friction; slots for cohesion and rolling resistance) composed into one
-// small value type with force() and stiffness(). Header-only: force() is the hot loop.
-// Conventions and formulas: docs/contact-law.md.
+// elasticity, Coulomb friction, and optionally [GRC]'s cohesion and rolling resistance)
+// composed into one small value type with force() and stiffness(). Header-only: force() is
+// the hot loop. Conventions and formulas: docs/contact-law.md.
 #include <optional>
 
 #include "granpack/contact/cohesion.h"
@@ -29,17 +29,20 @@ template <int dim> struct ContactForces {
   Vec<dim> force_on_j = Vec<dim>::Zero();    ///< N n + T, transmitted from i to j; on i: -it
   RotVec<dim> torque_i = RotVec<dim>::Zero();
   RotVec<dim> torque_j = RotVec<dim>::Zero();
-  double normal_elastic = 0;                 ///< N^e (stress, Coulomb, rattlers)
-  double normal_total = 0;                   ///< N = N^e + N^v
+  double normal_elastic = 0;                 ///< N^e (Coulomb, rattlers)
+  double normal_attractive = 0;              ///< N^a <= 0 (cohesion, [GRC] eq. 4-5)
+  double normal_total = 0;                   ///< N = N^e + N^v + N^a
   Vec<dim> tangential = Vec<dim>::Zero();    ///< T (on j)
 };
 
 /// Local constitutive stiffness at the current state (rigidity assembles G^T 𝒦 G).
 struct ContactStiffness {
-  double k_n = 0;        ///< dN/dh
-  double k_t = 0;        ///< dT/du_T (elastic)
-  double k_r = 0;        ///< rolling stiffness (slot, 0 until rolling resistance exists)
+  double k_n = 0;        ///< dN/dh of the static force N^e + N^a (-F0/D0 across a gap)
+  double k_t = 0;        ///< dT/du_T (elastic; 0 for a distant interaction)
+  double k_r = 0;        ///< rolling stiffness K_r (0 without rolling resistance or contact)
   bool sliding = false;  ///< last update was on the Coulomb cone
+  bool rolling_plastic = false;  ///< last update was on the rolling threshold
+  bool distant = false;  ///< cohesive interaction across a gap: normal force only
 };
 
 template <int dim> struct ContactLaw {
@@ -47,8 +50,8 @@ template <int dim> struct ContactLaw {
   NormalDamping damping{};
   TangentialElasticity tangential{};
   CoulombFriction friction{};
-  std::optional<Cohesion> cohesion;          ///< slot: [GRC] eq. 4-5, not implemented yet
-  std::optional<RollingResistance> rolling;  ///< slot: [GRC] eq. 9-10, not implemented yet
+  std::optional<Cohesion> cohesion;          ///< [GRC] eq. 4-5
+  std::optional<RollingResistance> rolling;  ///< [GRC] eq. 9-10
 
   /// Largest gap (-h) at which a pair interacts: 0 without cohesion, D0 with it.
   double interaction_range() const { return cohesion ? cohesion->d0 : 0.0; }
@@ -57,9 +60,13 @@ template <int dim> struct ContactLaw {
     return g.overlap > 0 || (cohesion && -g.overlap < cohesion->d0);
   }
 
+  /// Static attractive normal force N^a at overlap h (0 without cohesion).
+  double attraction(double h) const { return cohesion ? cohesion->force(h) : 0.0; }
+
   /// One update of the contact over a time step dt: reads and updates `state`
-  /// (normal_force = N^e, tangential_force = T, kSliding, age + 1). When the pair does not
-  /// interact, returns active = false with zero forces and resets state.
+  /// (normal_force = N^e, tangential_force = T, rolling = δθ, kSliding, kRollingPlastic,
+  /// kDistant, age + 1). When the pair does not interact, returns active = false with zero
+  /// forces and resets state.
   // Always inlined into the force loop (GCC otherwise keeps it out of line for its size):
   // the geometry, kinematics and result then stay in registers instead of going through
   // memory for every pair (docs/performance.md).
@@ -68,8 +75,20 @@ template <int dim> struct ContactLaw {
                                                   ContactState<dim>& state, double dt) const {
     ContactForces<dim> out;
     if (!(g.overlap > 0)) {
-      // Cohesion slot: distant interactions (kDistant, normal force only) go here.
+      if (!(cohesion && -g.overlap < cohesion->d0)) {
+        state = ContactState<dim>{};
+        return out;
+      }
+      // Distant interaction ([GRC] eq. 4): attraction along n only; the tangential and
+      // rolling histories of a contact that opened are forgotten.
+      out.active = true;
+      out.normal_attractive = cohesion->force(g.overlap);
+      out.normal_total = out.normal_attractive;
+      out.force_on_j = out.normal_total * g.normal;
+      const std::int64_t age = state.age;
       state = ContactState<dim>{};
+      state.flags = kDistant;
+      state.age = age + 1;
       return out;
     }
     out.active = true;
@@ -95,7 +114,7 @@ template <int dim> struct ContactLaw {
       t *= normal_stiffness_ratio(normal, nr.force, state.normal_force);
     const double k_t = tangential.stiffness(nr.stiffness);
     t -= (k_t * dt) * dv_t;
-    state.flags &= ~static_cast<std::uint32_t>(kSliding);
+    state.flags &= ~static_cast<std::uint32_t>(kSliding | kDistant);
     if (!friction.unlimited()) {
       const double limit = friction.mu * nr.force;
       const double t2 = t.squaredNorm();
@@ -105,15 +124,32 @@ template <int dim> struct ContactLaw {
       }
     }
 
-    // Cohesion slot: -F0 added to the total normal force here (not to N^e).
-    // Rolling slot: elastic/plastic update of state.rolling, moment ±Γ^r added to torques.
-
     out.normal_elastic = nr.force;
-    out.normal_total = nr.force + n_visc;
+    out.normal_attractive = cohesion ? -cohesion->f0 : 0.0;
+    out.normal_total = nr.force + n_visc + out.normal_attractive;
     out.tangential = t;
     out.force_on_j = out.normal_total * n + t;
     out.torque_j = moment<dim>(b_j, out.force_on_j);
     out.torque_i = moment<dim>(b_i, Vec<dim>(-out.force_on_j));
+
+    if (rolling) {
+      // Relative rotation of j with respect to i over the step; in 3D its pivoting part
+      // (about n) is free, and the stored δθ turns with the contact like T.
+      RotVec<dim> d_theta = (kin.w_j - kin.w_i) * dt;
+      if constexpr (dim == 3) {
+        d_theta -= n.dot(d_theta) * n;
+        state.rolling = transport_tangential<dim>(
+            state.rolling, contact_rotation<dim>(g, v_ij, kin.w_i, kin.w_j, dt), n);
+      }
+      state.flags &= ~static_cast<std::uint32_t>(kRollingPlastic);
+      if (rolling->update<dim>(state.rolling, d_theta, nr.force)) state.flags |= kRollingPlastic;
+      // Elastic-plastic moment on j, plus the optional viscous part (not in [GRC]).
+      RotVec<dim> gamma = -rolling->k_r * state.rolling;
+      if (rolling->damping > 0)
+        gamma -= rolling->viscosity(g.effective_mass, g.effective_radius) * (d_theta / dt);
+      out.torque_j += gamma;
+      out.torque_i -= gamma;
+    }
 
     state.normal_force = nr.force;
     state.tangential_force = t;
@@ -124,10 +160,16 @@ template <int dim> struct ContactLaw {
   /// Local stiffness at the current geometry and state.
   ContactStiffness stiffness(const PairGeometry<dim>& g, const ContactState<dim>& state) const {
     ContactStiffness k;
+    k.sliding = (state.flags & kSliding) != 0;
+    k.rolling_plastic = (state.flags & kRollingPlastic) != 0;
+    if (!(g.overlap > 0)) {
+      k.distant = cohesion && -g.overlap < cohesion->d0;
+      k.k_n = cohesion ? cohesion->stiffness(g.overlap) : 0.0;
+      return k;
+    }
     k.k_n = normal_response(normal, g.overlap, g.effective_radius).stiffness;
     k.k_t = tangential.stiffness(k.k_n);
-    k.k_r = 0.0;  // rolling slot
-    k.sliding = (state.flags & kSliding) != 0;
+    k.k_r = rolling ? rolling->k_r : 0.0;
     return k;
   }
 };

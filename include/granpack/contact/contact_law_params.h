@@ -1,7 +1,6 @@
 #pragma once
 // Plain parameters of a contact law, as a deck fills them, and the factory that validates
-// them and builds ContactLaw<dim>. Bad values throw InputError; cohesion or rolling
-// resistance (non-zero F0, K_r, μ_r) throw NotImplemented for now.
+// them and builds ContactLaw<dim>. Bad values throw InputError.
 #include <limits>
 
 #include "granpack/contact/contact_law.h"
@@ -21,9 +20,11 @@ struct ContactLawParams {
   double damping_ratio = 0;  ///< ζ in [0, 1)
   double friction = 0;       ///< μ in [0, +inf]
   bool walton_rescaling = true;
-  // Future parts ([GRC]); must stay 0 until implemented.
+  // [GRC] parts, off when 0: cohesion needs F0 > 0 and D0 > 0; rolling resistance K_r > 0
+  // (μ_r >= 0, inf allowed).
   double cohesion_force = 0, cohesion_range = 0;  ///< F0, D0
   double rolling_stiffness = 0, rolling_friction = 0;  ///< K_r, μ_r
+  double rolling_damping = 0;  ///< ζ_r in [0, 1) (not in [GRC]; needs K_r > 0)
 };
 
 /// Validates p and builds the law (dim = 2 or 3).

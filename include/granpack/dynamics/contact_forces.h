@@ -36,12 +36,17 @@ public:
   ForceSums<dim> compute(System<dim>& sys, const VerletList<dim>& list, const ContactLaw<dim>& law,
                          double dt);
 
-  /// Elastic contact force on each local particle (owned + ghost, ghosts still to be reduced
-  /// by the caller): F^el = N^e n + T of the stored states. For the equilibrium criterion.
+  /// Static contact force on each local particle (owned + ghost, ghosts still to be reduced
+  /// by the caller): F^el = (N^e + N^a) n + T of the stored states, N^a the cohesive
+  /// attraction (viscous forces left out). With `moments`, also the static moment on each
+  /// grain: the branch vectors' moments of F^el plus the rolling moments -/+ K_r δθ.
+  /// For the equilibrium criteria.
   void elastic_forces(const System<dim>& sys, const VerletList<dim>& list,
-                      std::vector<Vec<dim>>& out) const;
+                      const ContactLaw<dim>& law, std::vector<Vec<dim>>& out,
+                      std::vector<RotVec<dim>>* moments = nullptr) const;
 
-  /// Calls f(i, j, n, state) for every pair currently in contact (state.age > 0).
+  /// Calls f(i, j, r_ij, state) for every interacting pair (state.age > 0: contacts and, with
+  /// cohesion, distant interactions flagged kDistant); r_ij is the centre-to-centre vector.
   template <class F>
   void for_each_contact(const System<dim>& sys, const VerletList<dim>& list, F&& f) const;
 
@@ -62,8 +67,7 @@ void ContactForceLoop<dim>::for_each_contact(const System<dim>& sys, const Verle
       const auto& st = sys.contacts.state(static_cast<std::size_t>(slot_[k]));
       if (st.age == 0) continue;
       const std::size_t j = nb[k];
-      Vec<dim> r = sys.cell.length.cwiseProduct(p.position[j] - p.position[i]);
-      f(i, j, Vec<dim>(r / r.norm()), st);
+      f(i, j, Vec<dim>(sys.cell.length.cwiseProduct(p.position[j] - p.position[i])), st);
     }
 }
 

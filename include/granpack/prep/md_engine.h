@@ -53,9 +53,9 @@ public:
   /// Advances one time step.
   void step();
   const MdObservables<dim>& observables() const { return obs_; }
-  /// The [AR] criteria values, normalised by the given force, stress and energy scales
-  /// (a^2 P, P, P a^3 for [AR]); needs one extra pass over the contacts.
-  EquilibriumMeasure measure(double force_scale, double stress_scale, double energy_scale);
+  /// The equilibrium criteria values (dynamics/equilibrium.h), normalised by the scales;
+  /// needs one extra pass over the contacts. Moments are measured only when with_moment.
+  EquilibriumMeasure measure(const EquilibriumScales& scales, bool with_moment);
   /// Lists the force-carrying contacts (N^e > threshold) of this rank, by local index.
   template <class F> void for_each_contact(F&& f) const { loop_.for_each_contact(ctx_.system, list_, f); }
   const Halo<dim>& halo() const { return halo_; }
