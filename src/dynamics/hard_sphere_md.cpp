@@ -704,6 +704,13 @@ template <int dim> void HardSphereMD<dim>::run_for(double duration) {
 template <int dim>
 void HardSphereMD<dim>::grow(double phi_target, double rate, double rescale_every,
                              std::function<void(const HardSphereMD&)> progress) {
+  begin_growth(phi_target, rate, rescale_every);
+  while (!continue_growth(std::numeric_limits<std::int64_t>::max(), progress)) {
+  }
+}
+
+template <int dim>
+void HardSphereMD<dim>::begin_growth(double phi_target, double rate, double rescale_every) {
   GRANPACK_CHECK(std::isfinite(rate) && rate > 0, "HardSphereMD::grow: rate " << rate);
   GRANPACK_CHECK(std::isfinite(rescale_every) && rescale_every > 0,
                  "HardSphereMD::grow: rescale_every " << rescale_every);
@@ -712,106 +719,125 @@ void HardSphereMD<dim>::grow(double phi_target, double rate, double rescale_ever
                  "HardSphereMD::grow: target solid fraction " << phi_target
                                                               << " is below the current "
                                                               << phi0);
+  growth_ = Growth{};
   if (phi_target == phi0) return;
-  const double k0 = kinetic_energy();
-  GRANPACK_CHECK(k0 > 0, "HardSphereMD::grow: the grains are at rest (kinetic energy 0)");
-  const double g_end = std::pow(phi_target / phi0, 1.0 / dim);
-  double rb_max = 0;
-  for (const State& s : st_) rb_max = std::max(rb_max, s.rb);
-  const double d_final = 2 * rb_max * g_end;
+  Growth& g = growth_;
+  g.phi_target = phi_target;
+  g.k0 = kinetic_energy();
+  GRANPACK_CHECK(g.k0 > 0, "HardSphereMD::grow: the grains are at rest (kinetic energy 0)");
+  g.g_end = std::pow(phi_target / phi0, 1.0 / dim);
+  for (const State& s : st_) g.rb_max = std::max(g.rb_max, s.rb);
+  g.d_final = 2 * g.rb_max * g.g_end;
   for (int a = 0; a < dim; ++a)
-    GRANPACK_CHECK(0.5 * box_[a] > d_final * (1 + 2 * kCellMargin),
+    GRANPACK_CHECK(0.5 * box_[a] > g.d_final * (1 + 2 * kCellMargin),
                    "HardSphereMD::grow: at solid fraction "
-                       << phi_target << " the largest diameter " << d_final
+                       << phi_target << " the largest diameter " << g.d_final
                        << " would not fit twice in the box length " << box_[a]);
 
-  double mass = 0, rb_mean = 0;
+  double mass = 0;
   for (std::size_t i = 0; i < st_.size(); ++i) {
     mass += mass_[i];
-    rb_mean += st_[i].rb;
+    g.rb_mean += st_[i].rb;
   }
-  rb_mean /= static_cast<double>(st_.size());
-  const double v_rms = std::sqrt(2 * k0 / mass);
+  g.rb_mean /= static_cast<double>(st_.size());
+  g.v_rms = std::sqrt(2 * g.k0 / mass);
 
   // Growth origin: radii r = rb (1 + rate (t - t0)).
   t0_ = t_now_;
   rate_ = rate;
   g_now_ = 1.0;
-  const double t_end = t0_ + (g_end - 1.0) / rate;
+  g.t_end = t0_ + (g.g_end - 1.0) / rate;
   const auto n = static_cast<std::int64_t>(st_.size());
-  const std::int64_t rescale_n =
-      std::max<std::int64_t>(1, std::llround(rescale_every * static_cast<double>(n)));
-  const std::int64_t progress_n = progress ? n : std::numeric_limits<std::int64_t>::max();
-  std::int64_t since_rescale = 0, since_progress = 0, since_window = 0;
-  double t_window = t_now_;
-  int stalled = 0;
+  g.rescale_n = std::max<std::int64_t>(1, std::llround(rescale_every * static_cast<double>(n)));
+  g.progress_n = n;
+  g.t_window = t_now_;
+  g.active = true;
+  growth_rebuild();
+}
 
-  // Back to fixed radii rb g at the current time.
-  auto freeze = [&](double g) {
-    move_all_to_now();
-    for (State& s : st_) s.rb *= g;
-    rate_ = 0;
-    t0_ = t_now_;
-    g_now_ = 1.0;
-    calendar_ok_ = false;
-    accumulate_kinetic();
-    sync_output();
-  };
-  auto rebuild = [&] {
-    move_all_to_now();
-    build_cells(std::min(d_final, 2 * rb_max * g_now_ * (1 + kGrowthHeadroom)));
-    predict_all();
-  };
-  rebuild();
-  for (;;) {
+/// Back to fixed radii rb g at the current time.
+template <int dim> void HardSphereMD<dim>::growth_freeze(double g) {
+  move_all_to_now();
+  for (State& s : st_) s.rb *= g;
+  rate_ = 0;
+  t0_ = t_now_;
+  g_now_ = 1.0;
+  calendar_ok_ = false;
+  growth_.active = false;
+  accumulate_kinetic();
+  sync_output();
+}
+
+template <int dim> void HardSphereMD<dim>::growth_rebuild() {
+  move_all_to_now();
+  build_cells(std::min(growth_.d_final, 2 * growth_.rb_max * g_now_ * (1 + kGrowthHeadroom)));
+  predict_all();
+}
+
+template <int dim>
+bool HardSphereMD<dim>::continue_growth(std::int64_t max_collisions,
+                                        const std::function<void(const HardSphereMD&)>& progress) {
+  Growth& g = growth_;
+  const auto n = static_cast<std::int64_t>(st_.size());
+  std::int64_t budget = max_collisions;
+  // The top of this loop is the only place a piece ends: what follows advance() is done.
+  while (g.active && budget > 0) {
     // The grid holds while the largest diameter 2 rb_max g(t) <= d_lim_.
-    const double t_lim = d_lim_ == kInf ? kInf : t0_ + (d_lim_ / (2 * rb_max) - 1.0) / rate;
-    const double t_stop = std::min(t_lim, t_end);
-    const std::int64_t batch = std::min(
-        {rescale_n - since_rescale, progress_n - since_progress, n - since_window});
+    const double t_lim = d_lim_ == kInf ? kInf : t0_ + (d_lim_ / (2 * g.rb_max) - 1.0) / rate_;
+    const double t_stop = std::min(t_lim, g.t_end);
+    const std::int64_t batch = std::min({g.rescale_n - g.since_rescale,
+                                         g.progress_n - g.since_progress, n - g.since_window,
+                                         budget});
     const std::int64_t done = advance(t_stop, batch);
-    since_rescale += done;
-    since_progress += done;
-    since_window += done;
-    if (since_rescale >= rescale_n) {
+    budget -= done;
+    g.since_rescale += done;
+    g.since_progress += done;
+    g.since_window += done;
+    if (g.since_rescale >= g.rescale_n) {
       move_all_to_now();
       const double k = kinetic_energy();
       if (k > 0) {
-        const double f = std::sqrt(k0 / k);
+        const double f = std::sqrt(g.k0 / k);
         for (State& s : st_) s.v *= f;
       }
       accumulate_kinetic();
       k_track_ = kinetic_energy();
       predict_all();
-      since_rescale = 0;
+      g.since_rescale = 0;
     }
-    if (since_progress >= progress_n) {
-      sync_output();
-      progress(*this);
-      since_progress = 0;
+    if (g.since_progress >= g.progress_n) {
+      if (progress) {
+        sync_output();
+        progress(*this);
+      }
+      g.since_progress = 0;
     }
-    if (since_window >= n) {
-      const bool stuck = v_rms * (t_now_ - t_window) < kStallPath * 2 * rb_mean * g_now_;
-      stalled = stuck ? stalled + 1 : 0;
-      since_window = 0;
-      t_window = t_now_;
-      if (stalled >= kStallWindows) {
-        freeze(g_now_);
+    if (g.since_window >= n) {
+      const bool stuck = g.v_rms * (t_now_ - g.t_window) < kStallPath * 2 * g.rb_mean * g_now_;
+      g.stalled = stuck ? g.stalled + 1 : 0;
+      g.since_window = 0;
+      g.t_window = t_now_;
+      if (g.stalled >= kStallWindows) {
+        const double target = g.phi_target;
+        growth_freeze(g_now_);
         std::ostringstream os;
         os << "HardSphereMD::grow: jammed at solid fraction " << solid_fraction()
-           << " below the target " << phi_target
+           << " below the target " << target
            << " (the time stopped advancing; a slower growth rate packs denser)";
         throw Error(os.str());
       }
     }
     if (done < batch) { // reached t_stop
       set_time(t_stop);
-      if (t_stop >= t_end) break;
-      rebuild();
+      if (t_stop >= g.t_end) {
+        // Stop exactly at the target: freeze the radii at rb g_end.
+        growth_freeze(g.g_end);
+        break;
+      }
+      growth_rebuild();
     }
   }
-  // Stop exactly at the target: freeze the radii at rb g_end.
-  freeze(g_end);
+  return !g.active;
 }
 
 template class HardSphereMD<2>;

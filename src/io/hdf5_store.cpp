@@ -13,6 +13,7 @@
 #include "granpack/comm/collective_error.h"
 #include "granpack/io/atomic_file.h"
 #include "granpack/io/hdf5_handle.h"
+#include "granpack/io/hdf5_string_guard.h"
 #include "granpack/io/xdmf.h"
 
 #ifndef GRANPACK_VERSION
@@ -225,6 +226,8 @@ std::string read_string(const FileContext& ctx, hid_t obj, bool is_attribute,
   if (variable < 0)
     ctx.fail("cannot read " + what, true);
   if (variable > 0) {
+    // HDF5 1.10.8 follows the stored heap reference blindly (hangs, crashes, 21 GB).
+    h5::check_variable_string(ctx.path, obj, is_attribute, what);
     auto mtype = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot read " + what));
     ctx.rc(H5Tset_size(mtype, H5T_VARIABLE), "cannot read " + what);
     ctx.rc(H5Tset_cset(mtype, H5Tget_cset(type)), "cannot read " + what);

@@ -33,8 +33,13 @@ Checkpointer::Checkpointer(MPI_Comm world, CheckpointPolicy policy)
 }
 
 int Checkpointer::local_request(std::int64_t step_after) const {
-  int bits = 0;
+  int bits = clock_request();
   if (policy_.every_steps > 0 && step_after % policy_.every_steps == 0) bits |= kRequestCheckpoint;
+  return bits;
+}
+
+int Checkpointer::clock_request() const {
+  int bits = 0;
   if (rank_ == 0 && policy_.every_seconds > 0 &&
       std::chrono::duration<double>(std::chrono::steady_clock::now() - last_).count() >=
           policy_.every_seconds)

@@ -8,6 +8,13 @@
 // Collisions per grain count, as in [AR] ("until each particle has had n_coll collisions on
 // average"), the collisions a grain takes part in: 2 C / n for C pair collisions.
 //
+// Checkpoints inside these stages (docs/long-jobs.md): rank 0 runs the engine in pieces of
+// kPiece collisions; between pieces every rank takes part in one all-reduce of the request
+// bits (wall-time interval, stop signal), as after an MD step. A checkpoint stores the
+// engine's complete state (HardSphereMD::save_state) in the stage's frame, so the continued
+// run is the uninterrupted one bit for bit whenever the checkpoint was taken; the grains of
+// the checkpoint file are those the stage started from.
+//
 // The hard-sphere time unit is arbitrary: velocities are drawn from a Maxwell distribution
 // and scaled so that the rms speed is one diameter a per unit time. Grains leave these stages
 // at rest (the following compress stage starts from zero velocities, as in [AR]) and without
@@ -15,6 +22,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -23,6 +32,8 @@
 #include "granpack/comm/migration.h"
 #include "granpack/core/error.h"
 #include "granpack/dynamics/hard_sphere_md.h"
+#include "granpack/io/base64.h"
+#include "granpack/prep/checkpoint.h"
 #include "granpack/prep/stages.h"
 
 namespace granpack {
@@ -96,6 +107,63 @@ void scatter_back(RunContext<dim>& ctx, std::vector<Particle<dim>>& g,
   migrate(ctx.system, *ctx.decomposition);
 }
 
+/// Collisions between two looks at the checkpoint requests: milliseconds of engine time
+/// (about 3e5 collisions/s for n = 4000), so a signal is honoured at once, and an
+/// all-reduce per piece costs nothing next to it.
+constexpr std::int64_t kPiece = 2000;
+
+/// Collective. Calls piece() on rank 0 (it advances the engine by at most kPiece collisions
+/// and returns true when the engine's work is done) until it is done; between pieces a
+/// checkpoint is written when the wall-time interval has passed or a stop signal arrived
+/// (then exit 75). Errors of rank 0 reach every rank at the end of the piece.
+template <int dim> void run_in_pieces(RunContext<dim>& ctx, const std::function<bool()>& piece) {
+  constexpr int kFinished = 1 << 8;
+  int rank = 0;
+  MPI_Comm_rank(ctx.world, &rank);
+  for (;;) {
+    int bits = 0;
+    collectively(ctx.world, [&] {
+      if (rank == 0 && piece()) bits |= kFinished;
+    });
+    if (ctx.checkpointer) bits |= ctx.checkpointer->clock_request();
+    MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, ctx.world);
+    // Once the engine is done, a pending stop is honoured after the stage (run_deck).
+    if (bits & kFinished) return;
+    if (bits & kRequestCheckpoint) {
+      ctx.checkpointer->write(ctx, true);
+      ctx.checkpointer->stop_if_requested(bits, ctx.system.step);
+    }
+  }
+}
+
+/// The engine of a resumed stage (rank 0), from its frame; checks it is these grains'.
+template <int dim>
+HardSphereMD<dim> resume_engine(const RunContext<dim>& ctx, const nlohmann::json& frame,
+                                std::size_t n) {
+  try {
+    auto gas = HardSphereMD<dim>::restore_state(base64_decode(frame.at("engine").get<std::string>()));
+    if (gas.size() != n || gas.box() != ctx.system.cell.length)
+      throw Error("it holds " + std::to_string(gas.size()) + " grains in another cell");
+    return gas;
+  } catch (const std::exception& e) {
+    throw InputError("stage " + std::to_string(ctx.stage_index) + " (" + ctx.stage_name +
+                     "): the checkpoint's saved event-driven state cannot be resumed (" +
+                     e.what() + ")");
+  }
+}
+
+/// The frame of a resumed stage of kind `kind` (null if not resuming). No MD step to finish.
+template <int dim> nlohmann::json take_frame(RunContext<dim>& ctx, const char* kind) {
+  nlohmann::json f = ctx.take_resume_frame();
+  if (f.is_null()) return f;
+  ctx.resume_mid_step = false;
+  if (f.value("stage", "") != kind)
+    throw InputError("stage " + std::to_string(ctx.stage_index) + " (" + ctx.stage_name +
+                     "): the checkpoint's frame is of a '" + f.value("stage", "?") +
+                     "' stage, not " + kind);
+  return f;
+}
+
 template <int dim> void require_sample(const RunContext<dim>& ctx) {
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index << " (" << ctx.stage_name
                                              << "): there is no sample yet (a lattice or random "
@@ -111,19 +179,38 @@ template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage
   auto g = gather_particles(ctx.system.particles, ctx.world);
   double stats[3] = {0, 0, 0};  // collisions, hard-sphere time, reduced pressure Z
   std::vector<Vec<dim>> x;
+  const nlohmann::json resume = take_frame(ctx, "ed_gas");
+  std::optional<HardSphereMD<dim>> gas;
+  std::int64_t total = 0;
   collectively(ctx.world, [&] {
     if (rank != 0) return;
-    HardSphereMD<dim> gas = make_gas(ctx, g, e.seed);
+    total = std::llround(0.5 * e.collisions_per_grain * static_cast<double>(g.size()));
+    if (!resume.is_null()) {
+      gas.emplace(resume_engine(ctx, resume, g.size()));
+    } else {
+      gas.emplace(make_gas(ctx, g, e.seed));
+      gas->reset_pressure();
+    }
+  });
+  StageFrame<dim> frame(ctx, [&] {
+    nlohmann::json f{{"stage", "ed_gas"}};
+    if (gas) f["engine"] = base64_encode(gas->save_state());
+    return f;
+  });
+  run_in_pieces(ctx, [&] {
+    gas->run_collisions(std::min(kPiece, total - gas->collisions()));
+    return gas->collisions() >= total;
+  });
+  collectively(ctx.world, [&] {
+    if (rank != 0) return;
+    GRANPACK_CHECK(gas->min_relative_gap() > -1e-9, "the hard-sphere gas developed an overlap");
     const auto n = static_cast<double>(g.size());
-    gas.reset_pressure();
-    gas.run_collisions(static_cast<std::int64_t>(std::llround(0.5 * e.collisions_per_grain * n)));
-    GRANPACK_CHECK(gas.min_relative_gap() > -1e-9, "the hard-sphere gas developed an overlap");
-    stats[0] = static_cast<double>(gas.collisions());
-    stats[1] = gas.time();
+    stats[0] = static_cast<double>(gas->collisions());
+    stats[1] = gas->time();
     // Compressibility factor Z = P V / (N k T) with k T = 2 K / (dim N).
-    const double kT = 2.0 * gas.kinetic_energy() / (dim * n);
-    stats[2] = gas.pressure() * ctx.system.cell.volume() / (n * kT);
-    x = gas.positions();
+    const double kT = 2.0 * gas->kinetic_energy() / (dim * n);
+    stats[2] = gas->pressure() * ctx.system.cell.volume() / (n * kT);
+    x = gas->positions();
   });
   MPI_Bcast(stats, 3, MPI_DOUBLE, 0, ctx.world);
   scatter_back(ctx, g, x);
@@ -155,37 +242,76 @@ template <int dim> StageReport run_ls_compress(RunContext<dim>& ctx, const LsCom
                                         << "): target phi " << l.phi
                                         << " is not above the current solid fraction " << phi0);
   const auto t0 = std::chrono::steady_clock::now();
+  std::vector<double> targets;
+  for (double p : l.report_phi)
+    if (p > phi0) targets.push_back(p);
+  targets.push_back(l.phi);
+  // The growth's progress through the targets: the one in progress (targets[next - 1] once
+  // begun), the collision count when it began, the initial radius of grain 0.
+  std::size_t next = 0;
+  std::int64_t before = 0;
+  double r0 = 0;
+  const nlohmann::json resume = take_frame(ctx, "ls_compress");
+  std::optional<HardSphereMD<dim>> gas;
   collectively(ctx.world, [&] {
     if (rank != 0) return;
-    HardSphereMD<dim> gas = make_gas(ctx, g, l.seed);
-    const auto n = static_cast<double>(g.size());
-    const double r0 = gas.radii().front();
-    std::vector<double> targets;
-    for (double p : l.report_phi)
-      if (p > phi0) targets.push_back(p);
-    targets.push_back(l.phi);
-    std::size_t k = intervals - targets.size();  // intervals already passed count zero
-    // d(diameter)/dt = growth_rate v_rms for the largest diameter a, and v_rms is one a per
-    // time unit: the relative growth rate of every radius is growth_rate.
-    const double rate = l.growth_rate;
-    auto last_log = std::chrono::steady_clock::now();
-    auto progress = [&](const HardSphereMD<dim>& s) {
-      const auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - last_log).count() < 10) return;
-      last_log = now;
-      std::ostringstream os;
-      os << "  LS: phi " << s.solid_fraction() << ", " << 2 * double(s.collisions()) / n
-         << " collisions per grain";
-      ctx.log->progress(os.str());
-    };
-    for (double target : targets) {
-      const auto before = gas.collisions();
-      gas.grow(target, rate, l.rescale_every, progress);
-      stats[k++] = 2 * double(gas.collisions() - before) / n;
+    if (resume.is_null()) {
+      gas.emplace(make_gas(ctx, g, l.seed));
+      r0 = gas->radii().front();
+      return;
     }
-    GRANPACK_CHECK(gas.min_relative_gap() > -1e-9, "the hard-sphere growth developed an overlap");
-    stats[intervals] = gas.radii().front() / r0;
-    x = gas.positions();
+    gas.emplace(resume_engine(ctx, resume, g.size()));
+    next = resume.at("next").get<std::size_t>();
+    before = resume.at("before").get<std::int64_t>();
+    r0 = exact_double(resume.at("r0"));
+    const auto done = resume.at("stats");
+    if (next > targets.size() || done.size() != stats.size())
+      throw InputError("stage " + std::to_string(ctx.stage_index) + " (" + ctx.stage_name +
+                       "): the checkpoint's frame does not match this stage's targets");
+    for (std::size_t k = 0; k < stats.size(); ++k) stats[k] = exact_double(done[k]);
+  });
+  StageFrame<dim> frame(ctx, [&] {
+    nlohmann::json f{{"stage", "ls_compress"}};
+    if (!gas) return f;
+    f["engine"] = base64_encode(gas->save_state());
+    f["next"] = next;
+    f["before"] = before;
+    f["r0"] = exact(r0);
+    f["stats"] = nlohmann::json::array();
+    for (double v : stats) f["stats"].push_back(exact(v));
+    return f;
+  });
+  const auto n = static_cast<double>(g.size());
+  // d(diameter)/dt = growth_rate v_rms for the largest diameter a, and v_rms is one a per
+  // time unit: the relative growth rate of every radius is growth_rate.
+  const double rate = l.growth_rate;
+  auto last_log = std::chrono::steady_clock::now();
+  auto progress = [&](const HardSphereMD<dim>& s) {
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_log).count() < 10) return;
+    last_log = now;
+    std::ostringstream os;
+    os << "  LS: phi " << s.solid_fraction() << ", " << 2 * double(s.collisions()) / n
+       << " collisions per grain";
+    ctx.log->progress(os.str());
+  };
+  const std::size_t first_interval = intervals - targets.size();  // passed ones count zero
+  run_in_pieces(ctx, [&] {
+    if (!gas->growing()) {
+      if (next > 0) // the growth to targets[next - 1] has ended
+        stats[first_interval + next - 1] = 2 * double(gas->collisions() - before) / n;
+      if (next == targets.size()) return true;
+      before = gas->collisions();
+      gas->begin_growth(targets[next++], rate, l.rescale_every);
+    }
+    gas->continue_growth(kPiece, progress);
+    return false;
+  });
+  collectively(ctx.world, [&] {
+    if (rank != 0) return;
+    GRANPACK_CHECK(gas->min_relative_gap() > -1e-9, "the hard-sphere growth developed an overlap");
+    stats[intervals] = gas->radii().front() / r0;
+    x = gas->positions();
   });
   MPI_Bcast(stats.data(), static_cast<int>(stats.size()), MPI_DOUBLE, 0, ctx.world);
   // The grains keep their diameter: the cell shrinks by the growth factor instead.

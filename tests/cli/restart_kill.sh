@@ -57,8 +57,11 @@ after_kill() {
     echo "FAIL: after kill $kills the checkpoint is not readable:"; cat "$scratch/info.txt"; exit 1
   fi
 }
-# Phase 1: kills at random instants.
-for attempt in $(seq 1 8); do
+# Phase 1: kills at random instants. Five: their delays (seed 2026) add up to 0.89 of the
+# uninterrupted wall time, so the chain cannot finish here and phase 2 always runs (with eight,
+# whose delays add up to 1.4, a loaded machine let the chain finish in phase 1 and the test
+# failed its own "did not test" check).
+for attempt in $(seq 1 5); do
   start_leg
   sleep "$(awk -v r=$RANDOM -v w=$wall 'BEGIN { printf "%.2f", w * (0.10 + 0.15 * r / 32767) }')"
   if ! kill -0 $pid 2>/dev/null; then wait $pid; break; fi   # finished before the kill

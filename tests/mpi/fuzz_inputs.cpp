@@ -330,6 +330,38 @@ TEST(FuzzRegressions, TruncatedSuperblockIsRefusedSilently) {
             0u);
 }
 
+TEST(FuzzRegressions, CorruptGlobalHeapsAreRefusedBeforeHdf5FollowsThem) {
+  // Inside HDF5 1.10.8's H5Aread of a variable-length string attribute these files hung, crashed
+  // (SIGSEGV) and allocated 21 GB. The guard (src/io/hdf5_string_guard.cpp) reads the stored
+  // heap reference raw and checks the datatype and the global heap collection first. Capped
+  // address space: without the guard the third file fails an allocation inside HDF5, whose
+  // message is not the one expected here, instead of taking the machine's memory.
+  AddressSpaceCap cap(rlim_t{4} << 30);
+  TempDir tmp;
+  const fs::path dir = granpack::test::source_dir() / "tests/fuzz/hdf5_upstream";
+  fuzz::Watchdog watchdog(30.0, [&] { return dir.string(); });
+  const std::pair<const char*, const char*> cases[] = {
+      {"global_heap_hang.h5",
+       "attribute /format: the string (8 bytes, global heap collection at byte 2048, object 1) "
+       "is corrupt: object 0 at byte 456 of the collection claims 0 bytes, which is less than "
+       "its own header"},
+      {"global_heap_segv.h5",
+       "attribute /format: the string (8 bytes, global heap collection at byte 2048, object 1) "
+       "is corrupt: object 8 at byte 192 of the collection claims 18446742974197923841 bytes, "
+       "more than the collection's 4096"},
+      {"vlen_string_21GB.h5",
+       "attribute /granpack_version: variable-length string of 4294967041-byte characters"}};
+  for (const auto& [name, expect] : cases) {
+    const fs::path p = dir / name;
+    watchdog.begin(p.string());
+    const std::string m = read_message<3>(p);
+    EXPECT_EQ(m.rfind(p.string() + ": " + expect, 0), 0u) << m;
+    // The whole property of the fuzzing: every reader refuses, nothing on stderr.
+    EXPECT_EQ(fuzz::check_h5(p, tmp.path), "") << name;
+    EXPECT_LT(watchdog.end(), 5.0) << name;
+  }
+}
+
 // ------------------------------------------------------------------------------------------
 // Randomised decks
 

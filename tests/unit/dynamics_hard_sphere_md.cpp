@@ -199,6 +199,64 @@ TEST(HardSphereMD, LubachevskyStillingerGrowthStopsExactlyAtTarget) {
   EXPECT_NEAR(md.solid_fraction(), 0.55, 1e-12);
 }
 
+/// Positions, velocities and radii equal bit for bit.
+template <int dim> void expect_same_state(const HardSphereMD<dim>& a, const HardSphereMD<dim>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(a.collisions(), b.collisions());
+  EXPECT_EQ(a.time(), b.time());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    differ += a.positions()[i] != b.positions()[i] || a.velocities()[i] != b.velocities()[i] ||
+              a.radii()[i] != b.radii()[i];
+  EXPECT_EQ(differ, 0u) << "grains differ";
+  EXPECT_EQ(a.pressure(), b.pressure());
+}
+
+TEST(HardSphereMD, GrowthInPiecesAndSavedStatesContinueBitForBit) {
+  // What a checkpoint inside ed_gas / ls_compress relies on (docs/long-jobs.md): stopping the
+  // engine after any collision, saving and restoring it, changes nothing in the trajectory.
+  auto whole = make(fcc(5, 0.45, 8));
+  auto split = make(fcc(5, 0.45, 8));
+  const auto n = static_cast<std::int64_t>(whole.size());
+  whole.reset_pressure();
+  split.reset_pressure();
+  whole.run_collisions(30 * n);
+  split.run_collisions(1234);
+  split = HardSphereMD<3>::restore_state(split.save_state());
+  split.run_collisions(30 * n - 1234);
+  expect_same_state(whole, split);
+
+  whole.grow(0.56, 0.02, 0.5);
+  split.begin_growth(0.56, 0.02, 0.5);
+  int pieces = 0, restores = 0;
+  while (!split.continue_growth(997)) {
+    if (++pieces % 3 == 0) {
+      split = HardSphereMD<3>::restore_state(split.save_state());
+      ++restores;
+    }
+  }
+  EXPECT_GT(restores, 3);
+  EXPECT_FALSE(split.growing());
+  expect_same_state(whole, split);
+  // And fixed-radius dynamics after the growth.
+  whole.run_collisions(5 * n);
+  split.run_collisions(5 * n);
+  expect_same_state(whole, split);
+}
+
+TEST(HardSphereMD, RestoreRefusesWhatIsNotASavedState) {
+  auto md = make(square(8, 0.4, 2));
+  auto bytes = md.save_state();
+  EXPECT_THROW(HardSphereMD<3>::restore_state(bytes), Error);  // another dimension
+  auto cut = bytes;
+  cut.resize(cut.size() / 2);
+  EXPECT_THROW(HardSphereMD<2>::restore_state(cut), Error);
+  auto bad = bytes;
+  bad[0] ^= 1;
+  EXPECT_THROW(HardSphereMD<2>::restore_state(bad), Error);
+  EXPECT_NO_THROW(HardSphereMD<2>::restore_state(bytes));
+}
+
 TEST(HardSphereMD, GrowRejectsImpossibleTargets) {
   auto md = make(fcc(2, 0.3, 7)); // 32 spheres, box 3.8 diameters
   EXPECT_THROW(md.grow(0.2, 0.1), Error);   // shrinking

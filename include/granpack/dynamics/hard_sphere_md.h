@@ -62,6 +62,24 @@ public:
   /// less than 1e-12 diameters in 3 n collisions), leaving the radii frozen where it jammed.
   void grow(double phi_target, double rate, double rescale_every = 1.0,
             std::function<void(const HardSphereMD&)> progress = {});
+  /// grow() in pieces, so a caller can checkpoint or stop in the middle: begin_growth() makes
+  /// grow()'s checks and set-up; then continue_growth() runs at most `max_collisions` more
+  /// collisions and returns true once the target is reached (false: call it again). Pieces of
+  /// any size give bit for bit the trajectory of one grow() call.
+  void begin_growth(double phi_target, double rate, double rescale_every = 1.0);
+  bool continue_growth(std::int64_t max_collisions,
+                       const std::function<void(const HardSphereMD&)>& progress = {});
+  bool growing() const { return growth_.active; }
+
+  /// Everything the engine's future depends on, byte for byte: grains (positions at their
+  /// own clocks, velocities, radii, masses, collision counters), the calendar, the cell list
+  /// with its members' order, the clocks, counters, pressure accumulators and a growth in
+  /// progress. An engine restored from it continues exactly as this one would have, so a
+  /// checkpoint can be taken at any instant without changing the trajectory
+  /// (docs/long-jobs.md). Binary, for this build's platform (little-endian doubles).
+  std::vector<std::uint8_t> save_state() const;
+  /// Throws granpack::Error if `state` is not a saved state of a dim-D engine.
+  static HardSphereMD restore_state(const std::vector<std::uint8_t>& state);
 
   const std::vector<Vec<dim>>& positions() const { return out_pos_; } ///< wrapped into [0,L)
   const std::vector<Vec<dim>>& velocities() const { return out_vel_; }
@@ -97,6 +115,19 @@ public:
 
 private:
   static constexpr double kInf = std::numeric_limits<double>::infinity();
+  HardSphereMD() = default; // restore_state() fills it
+
+  /// The state of an LS growth between begin_growth() and its end (grow()'s loop variables).
+  struct Growth {
+    bool active = false;
+    double phi_target = 0, k0 = 0, g_end = 1, rb_max = 0, d_final = 0, rb_mean = 0, v_rms = 0;
+    double t_end = 0, t_window = 0;
+    std::int64_t rescale_n = 1, progress_n = 1, since_rescale = 0, since_progress = 0,
+                 since_window = 0;
+    int stalled = 0;
+  };
+  void growth_rebuild();
+  void growth_freeze(double g);
 
   /// Hot per-grain state, 64 bytes in 3D: position at local time t, velocity, base radius.
   struct alignas(dim == 3 ? 64 : 16) State {
@@ -199,6 +230,8 @@ private:
 
   // pressure accumulators
   double t_press0_ = 0.0, virial_ = 0.0, kin_integral_ = 0.0, k_track_ = 0.0, t_kin_ = 0.0;
+
+  Growth growth_;
 
   std::vector<Vec<dim>> out_pos_, out_vel_;
   std::vector<double> out_radii_;

@@ -52,6 +52,9 @@ public:
   /// This rank's request bits (kRequestCheckpoint, kRequestStop) for the step that will
   /// complete step number `step_after`. Wall time is judged on rank 0 only.
   int local_request(std::int64_t step_after) const;
+  /// The same without the step schedule: the wall-time interval and stop signals only (the
+  /// event-driven stages, which have no time steps).
+  int clock_request() const;
   /// The same, all-reduced (collective; for stage boundaries).
   int global_request(std::int64_t step_after) const;
 

@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# Checkpoints inside the event-driven stages (ed_gas, ls_compress) continue exactly.
+#  1. An FCC lattice melted by ed_gas and grown by ls_compress, uninterrupted and without any
+#     checkpoint, on 1 and on 2 ranks (rank 0 runs the engine; the others take part in the
+#     checkpoint polls and writes).
+#  2. The same deck with a checkpoint every 0.1 s of wall time: killed with kill -9 (mpiexec
+#     and the ranks) after a checkpoint inside ed_gas, restarted; stopped with SIGUSR1 (exit
+#     75) after a checkpoint inside ls_compress, restarted to the end.
+#  3. final.h5 equals the uninterrupted one bit for bit (tests/support/same_state.py), and
+#     report.json has the same stage values: the engine's complete state is saved, so neither
+#     the checkpoints nor their instants change the trajectory (docs/long-jobs.md).
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+scratch=$(mktemp -d)
+pid=
+stop_run() { [ -n "$pid" ] && kill -9 $(pgrep -P "$pid") "$pid" 2>/dev/null; wait "$pid" 2>/dev/null; pid=; }
+trap 'stop_run; rm -rf "$scratch"' EXIT
+deck=$scratch/ed.toml
+cat > "$deck" <<'TOML'
+[sample]
+dimension = 3
+n = 500
+diameter = 1.0e-3
+seed = 3
+[material]
+density = 2500.0
+young_modulus = 70.0e9
+poisson_ratio = 0.3
+friction = 0.3
+damping = 0.98
+[[stage]]
+kind = "lattice"
+lattice = "fcc"
+phi = 0.45
+cells = [5, 5, 5]
+[[stage]]
+name = "melt"
+kind = "ed_gas"
+collisions_per_grain = 1500
+[[stage]]
+name = "ls"
+kind = "ls_compress"
+phi = 0.60
+report_phi = [0.52]
+growth_rate = 3.0e-3
+TOML
+run() { local o=$1; shift; mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$o" -q "$@" < /dev/null; }
+inside() { local c; c=$(grep -c "inside the stage" "$out/log.txt" 2>/dev/null); echo "${c:-0}"; }
+
+# Starts a leg in the background (pid: mpiexec's) and waits for a checkpoint inside stage $1.
+leg() {
+  local stage=$1; shift
+  local before; before=$(inside)
+  # mpiexec itself in the background (not a shell function): $pid is mpiexec's, the ranks
+  # are its children, and SIGUSR1 reaches mpiexec, which forwards it to them.
+  mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$out" -q --checkpoint-every-seconds 0.1 "$@" \
+    < /dev/null >> "$scratch/chain.txt" 2>&1 &
+  pid=$!
+  for _ in $(seq 1 600); do
+    if [ "$(inside)" -gt "${before:-0}" ] &&
+       [ "$(grep "^stage " "$out/log.txt" | tail -1 | cut -d' ' -f2)" = "$stage" ]; then return 0; fi
+    kill -0 $pid 2>/dev/null || return 1
+    sleep 0.05
+  done
+  return 1
+}
+info_stage() { "$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p'; }
+
+# chain NP: the uninterrupted run and the interrupted chain on NP ranks, compared.
+chain() {
+  np=$1 whole=$scratch/whole$1 out=$scratch/chain$1
+  t0=$(date +%s.%N)
+  run "$whole" --checkpoint-every-seconds 0 > "$whole.txt" 2>&1 \
+    || { echo "FAIL: uninterrupted run"; tail "$whole.txt"; return 1; }
+  wall=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.1f", b - a }')
+
+  leg 1 || { echo "FAIL: no checkpoint inside ed_gas (uninterrupted run: $wall s)"; tail "$scratch/chain.txt"; return 1; }
+  stop_run   # kill -9
+  echo "killed inside ed_gas; checkpoint at stage $(info_stage)"
+  leg 2 --restart "$out/checkpoint.h5" || { echo "FAIL: no checkpoint inside ls_compress"; tail "$scratch/chain.txt"; return 1; }
+  kill -USR1 $pid
+  wait $pid; code=$?; pid=
+  [ $code -eq 75 ] || { echo "FAIL: SIGUSR1 inside ls_compress: exit $code"; tail "$scratch/chain.txt"; return 1; }
+  echo "stopped inside ls_compress (exit 75); checkpoint at stage $(info_stage)"
+  run "$out" --checkpoint-every-seconds 0.1 --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1 \
+    || { echo "FAIL: last restart"; tail "$scratch/chain.txt"; return 1; }
+  echo "uninterrupted run $wall s; the chain wrote $(inside) checkpoints inside a stage"
+  grep -q "inside stage 1 'melt'" "$out/log.txt" && grep -q "inside stage 2 'ls'" "$out/log.txt" \
+    || { echo "FAIL: the restarts did not resume inside both stages"; grep "restart from" "$out/log.txt"; return 1; }
+
+  if ! /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$whole/final.h5" "$out/final.h5"; then
+    return 1
+  fi
+  if ! /usr/bin/python3 - "$whole/report.json" "$out/report.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p))["stages"] for p in sys.argv[1:3])
+assert [s["name"] for s in a] == [s["name"] for s in b], "stage names"
+for x, y in zip(a, b):
+    for k, v in x.items():
+        if k != "wall_seconds":
+            assert y.get(k) == v, (x["name"], k, v, y.get(k))
+PY
+  then echo "FAIL: report.json of the chain differs"; return 1; fi
+  echo "$np rank(s): identical"
+}
+passed=0 failed=0
+for n in 1 2; do
+  if chain $n; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+  stop_run
+done
+echo "restart event driven: $passed passed, $failed failed"
+[ $failed -eq 0 ]
