@@ -284,6 +284,8 @@ void read_compress_controls(TableReader& rk, CompressStage& c) {
                               "cap on the inertia number I of the strain rate");
   c.cell_mass = rk.number_or("cell_mass", 1.0, Range::positive(),
                              "generalised cell mass M / total grain mass");
+  c.cell_mass_per_length = rk.boolean_or("cell_mass_per_length", false,
+                                         "M = cell_mass x total grain mass x a / L0 ([GRC] eq. 3)");
   c.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
   c.quench_interval = rk.integer_or("quench_interval", 0, Range::non_negative(),
                                     "steps between velocity quenches of a static packing (0: never)");

@@ -53,6 +53,10 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
     total_mass += ctx.system.particles.mass[i];
   MPI_Allreduce(MPI_IN_PLACE, &total_mass, 1, MPI_DOUBLE, MPI_SUM, ctx.world);
   s.cell.mass = c.cell_mass * total_mass;
+  // [GRC] eq. 3 drives the strain eps = -L/L0 with M = 0.3 sum m / L (L in units of a); in
+  // the form M' d2L/dt2 = (Omega/L_a)(sigma - Sigma) used here this is M' = M a / L0 for a
+  // square cell.
+  if (c.cell_mass_per_length) s.cell.mass *= a / (ctx.system.cell.length.sum() / dim);
   for (int k = 0; k < dim; ++k) {
     s.cell.target[k] = c.stress[k];
     s.cell.fixed[k] = c.fixed[k];
@@ -67,10 +71,10 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "  P = %.6g Pa, kappa = %.6g, mu = %g, zeta = %g, I_max = %s, M = %g x grain "
-                  "mass, dt = %.4g s",
+                  "mass%s, dt = %.4g s",
                   P, kappa, ctx.material.friction, ctx.material.damping,
                   c.inertia_max ? std::to_string(*c.inertia_max).c_str() : "none", c.cell_mass,
-                  s.dt);
+                  c.cell_mass_per_length ? " x a/L0" : "", s.dt);
     ctx.log->info(buf);
     const MaterialSpec& mat = ctx.material;
     if (mat.cohesion_force > 0) {

@@ -73,6 +73,9 @@ struct CompressStage {
   std::vector<bool> fixed;              ///< axes kept at constant length (dim entries)
   std::optional<double> inertia_max;    ///< cap on I = eps_dot sqrt(m/(aP)), eq. (23)
   double cell_mass = 1.0;               ///< M / (sum of grain masses)
+  /// [GRC] eq. 3 form: M = cell_mass x (sum of grain masses) x a / L0, L0 the mean cell
+  /// length at the stage start (M = 0.3 sum m / L in the paper's units of a).
+  bool cell_mass_per_length = false;
   std::int64_t max_steps = 0;           ///< 0: no limit
   /// Steps between velocity quenches once the force and stress criteria hold but the kinetic
   /// one does not (0: never). [AR] sec. III checks stability by zeroing the velocities.

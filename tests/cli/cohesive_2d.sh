@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# [GRC] method 1 on 300 cohesive disks with rolling resistance (jobs/decks/2d/
+# method1_cohesive_small.toml), on 1 and 2 ranks: the compress stage must meet the II D
+# criteria (force, moment, pressure, kinetic energy on F1 = F0), and the written packing is
+# then checked independently of the engine, from the file alone:
+# - every contact obeys the law: N^e = K_N h, and Coulomb |T| < mu N^e and the rolling
+#   condition K_r |dtheta| < mu_r N^e hold as STRICT inequalities ([GRC] II D observes this
+#   of every equilibrated sample), with neither yield flag set; distant pairs (flag 4) have a
+#   gap below D0 and no N^e, T or rolling rotation;
+# - the net static force (N^e - F0 or the distant attraction, along n, plus T) on every grain
+#   is below 1e-4 F0 and the net moment (branch vectors to the middle of the overlap, plus the
+#   rolling moments -/+ K_r dtheta) below 1e-4 F0 a;
+# - the static pressure from these forces is P within 1e-4 F0/a.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+deck="$GRANPACK_SOURCE_DIR/jobs/decks/2d/method1_cohesive_small.toml"
+for np in 1 2; do
+  if ! mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$scratch/np$np" --quiet > "$scratch/np$np.txt" 2>&1; then
+    echo "FAIL: run on $np rank(s):"; tail -20 "$scratch/np$np.txt"; exit 1
+  fi
+done
+/usr/bin/python3 - "$scratch" <<'PY'
+import json, sys
+import h5py, numpy as np
+d = sys.argv[1]
+# The deck's parameters (jobs/decks/2d/method1_cohesive_small.toml).
+a, F0, D0, KN, mu, Kr, mur, P = 1e-3, 1.0, 1e-6, 1e7, 0.5, 1e-3, 5e-6, 10.0
+fails = []
+for np_ in (1, 2):
+    rep = json.load(open(f"{d}/np{np_}/report.json"))
+    comp = [s for s in rep["stages"] if s["kind"] == "compress"][0]
+    if not comp.get("equilibrated"):
+        fails.append(f"np{np_}: compress did not equilibrate")
+    with h5py.File(f"{d}/np{np_}/final.h5", "r") as f:
+        ids = f["particles/id"][:]
+        idx = {g: k for k, g in enumerate(ids)}
+        L = f["cell/length"][:]
+        x = f["particles/scaled_position"][:] * L
+        R = f["particles/radius"][:]
+        first = np.array([idx[g] for g in f["contacts/first"][:]])
+        second = np.array([idx[g] for g in f["contacts/second"][:]])
+        Ne = f["contacts/normal_force"][:]
+        T = f["contacts/tangential_force"][:]
+        rot = f["contacts/rolling"][:][:, 0]
+        flags = f["contacts/flags"][:]
+    r = x[second] - x[first]
+    r -= L * np.round(r / L)
+    dist = np.sqrt((r ** 2).sum(1))
+    n = r / dist[:, None]
+    h = R[first] + R[second] - dist
+    distant = (flags & 4) != 0
+    touch = ~distant
+    if (flags & 3).any():
+        fails.append(f"np{np_}: {int(((flags & 3) != 0).sum())} contacts on a yield surface")
+    if touch.any():
+        if (h[touch] <= 0).any():
+            fails.append(f"np{np_}: a contact without overlap")
+        err = np.abs(Ne[touch] - KN * h[touch]).max() / F0
+        if err > 1e-9:
+            fails.append(f"np{np_}: N^e != K_N h by {err:.3g} F0")
+        Tn = np.sqrt((T[touch] ** 2).sum(1))
+        if not (Tn < mu * Ne[touch]).all():
+            fails.append(f"np{np_}: Coulomb not strict: max |T|/(mu N^e) {np.max(Tn / (mu * Ne[touch])):.6f}")
+        if not (Kr * np.abs(rot[touch]) < mur * Ne[touch]).all():
+            fails.append(f"np{np_}: rolling condition not strict")
+        coulomb = np.max(Tn / (mu * Ne[touch]))
+        rolling = np.max(Kr * np.abs(rot[touch]) / (mur * Ne[touch]))
+    if distant.any():
+        g = -h[distant]
+        if (g < 0).any() or (g >= D0).any() or Ne[distant].any() or T[distant].any() or rot[distant].any():
+            fails.append(f"np{np_}: a distant pair out of range or carrying contact forces")
+    # Static forces: along n the elastic part and the attraction, plus T (on the second grain).
+    Na = np.where(distant, -F0 * (1 + h / D0), -F0)
+    F = (Ne + Na)[:, None] * n + T
+    net = np.zeros_like(x)
+    np.add.at(net, second, F)
+    np.add.at(net, first, -F)
+    cross = lambda b, f: b[:, 0] * f[:, 1] - b[:, 1] * f[:, 0]
+    gam = -Kr * rot  # rolling moment on the second grain
+    mom = np.zeros(len(x))
+    np.add.at(mom, second, cross(-(R[second] - 0.5 * h)[:, None] * n, F) + gam)
+    np.add.at(mom, first, cross((R[first] - 0.5 * h)[:, None] * n, -F) - gam)
+    fmax = np.sqrt((net ** 2).sum(1)).max() / F0
+    gmax = np.abs(mom).max() / (F0 * a)
+    sigma = (F[:, :, None] * r[:, None, :]).sum(0) / (L[0] * L[1])
+    dp = np.abs(np.diag(sigma) - P).max() * a / F0
+    phi = np.pi * (R ** 2).sum() / (L[0] * L[1])
+    print(f"np{np_}: phi {phi:.4f}, {int(touch.sum())} contacts + {int(distant.sum())} distant, "
+          f"max |T|/(mu N^e) {coulomb:.4f}, max K_r|dtheta|/(mu_r N^e) {rolling:.4f}, "
+          f"F/F0 {fmax:.2e}, Gamma/(F0 a) {gmax:.2e}, |dP| a/F0 {dp:.2e}")
+    if fmax >= 1e-4: fails.append(f"np{np_}: net force {fmax:.3g} F0 from the file")
+    if gmax >= 1e-4: fails.append(f"np{np_}: net moment {gmax:.3g} F0 a from the file")
+    if dp >= 1e-4: fails.append(f"np{np_}: pressure error {dp:.3g} F0/a from the file")
+    if not 0.5 < phi < 0.8: fails.append(f"np{np_}: phi {phi} outside (0.5, 0.8)")
+for m in fails:
+    print("FAIL:", m)
+sys.exit(1 if fails else 0)
+PY
