@@ -205,6 +205,20 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   r.x2 = sm.x2;
   r.z2 = sm.z2;
   if (c.quench_interval > 0) r.values.emplace_back("quenches", double(quenches));
+  if (cohesive) {
+    const CohesiveCoordination cc =
+        cohesive_coordination(ctx, engine, c.tolerance.force * force_scale);
+    r.values.emplace_back("z_interactions", cc.z);
+    r.values.emplace_back("z_plus", cc.z_plus);
+    r.values.emplace_back("z_minus", cc.z_minus);
+    r.values.emplace_back("z_zero", cc.z_zero);
+    r.values.emplace_back("distant_fraction", cc.distant_fraction);
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "  interactions ([GRC]): z %.4f = z+ %.4f + z- %.4f + z0 %.4f, distant %.2f %%",
+                  cc.z, cc.z_plus, cc.z_minus, cc.z_zero, 100 * cc.distant_fraction);
+    ctx.log->info(buf);
+  }
   ctx.stress = c.stress;
   ctx.fixed = c.fixed;
   ctx.pressure = P;

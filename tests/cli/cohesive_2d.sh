@@ -10,7 +10,9 @@
 # - the net static force (N^e - F0 or the distant attraction, along n, plus T) on every grain
 #   is below 1e-4 F0 and the net moment (branch vectors to the middle of the overlap, plus the
 #   rolling moments -/+ K_r dtheta) below 1e-4 F0 a;
-# - the static pressure from these forces is P within 1e-4 F0/a.
+# - the static pressure from these forces is P within 1e-4 F0/a;
+# - report.json's [GRC] coordination (z over all interactions, z+ / z- / z0 by the sign of the
+#   static normal force beyond 1e-4 F0, distant fraction) equals the count from the file.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 scratch=$(mktemp -d)
@@ -94,6 +96,16 @@ for np_ in (1, 2):
     if gmax >= 1e-4: fails.append(f"np{np_}: net moment {gmax:.3g} F0 a from the file")
     if dp >= 1e-4: fails.append(f"np{np_}: pressure error {dp:.3g} F0/a from the file")
     if not 0.5 < phi < 0.8: fails.append(f"np{np_}: phi {phi} outside (0.5, 0.8)")
+    Ns = Ne + Na
+    counts = {"z_interactions": 2 * len(Ns) / len(x), "z_plus": 2 * (Ns > 1e-4 * F0).sum() / len(x),
+              "z_minus": 2 * (Ns < -1e-4 * F0).sum() / len(x),
+              "z_zero": 2 * (np.abs(Ns) <= 1e-4 * F0).sum() / len(x),
+              "distant_fraction": distant.sum() / len(Ns)}
+    vals = comp.get("values", {})
+    for k, v in counts.items():
+        if k not in vals or abs(vals[k] - v) > 1e-12:
+            fails.append(f"np{np_}: report {k} = {vals.get(k)}, the file gives {v}")
+    print(f"np{np_}: " + ", ".join(f"{k} {v:.4f}" for k, v in counts.items()))
 for m in fails:
     print("FAIL:", m)
 sys.exit(1 if fails else 0)

@@ -59,6 +59,7 @@ public:
   /// Lists the force-carrying contacts (N^e > threshold) of this rank, by local index.
   template <class F> void for_each_contact(F&& f) const { loop_.for_each_contact(ctx_.system, list_, f); }
   const Halo<dim>& halo() const { return halo_; }
+  const ContactLaw<dim>& law() const { return law_; }
   std::int64_t rebuilds() const { return rebuilds_; }
   double dt() const { return settings_.dt; }
   /// Seconds spent in each phase of step() (and of the constructor) on this rank.

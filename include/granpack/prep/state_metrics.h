@@ -12,4 +12,18 @@ template <int dim>
 StateMetrics state_metrics(RunContext<dim>& ctx, const MdEngine<dim>& engine, double threshold,
                            int min_contacts);
 
+/// [GRC] sec. III A coordination of a cohesive packing: every interaction counts (contacts
+/// and distant attractions), split by the sign of the static normal force N = N^e + N^a into
+/// repulsive (N > threshold), attractive (N < -threshold) and unstressed (|N| <= threshold:
+/// contacts at the isolated deflection h0 carry N^e = F0, N = 0). z = 2 N_int / n.
+struct CohesiveCoordination {
+  double z = 0, z_plus = 0, z_minus = 0, z_zero = 0;
+  double distant_fraction = 0;  ///< distant pairs / all interactions
+};
+
+/// Collective.
+template <int dim>
+CohesiveCoordination cohesive_coordination(RunContext<dim>& ctx, const MdEngine<dim>& engine,
+                                           double threshold);
+
 }  // namespace granpack
