@@ -448,6 +448,17 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
     f.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
     f.seed = read_seed(rk, sample, index);
     st.params = f;
+  } else if (st.kind == "aggregate") {
+    AggregateStage g;
+    g.velocity_ratio = rk.number("velocity_ratio", Range::positive(),
+                                 "V0/V*: rms velocity of the Maxwell distribution over V* = "
+                                 "sqrt(F0 D0 / m) ([GRC]: 9.48)");
+    g.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
+    g.cluster_every = rk.integer_or("cluster_every", g.cluster_every, Range::positive(),
+                                    "steps between cluster counts");
+    g.tolerance = read_tolerances(rk);
+    g.seed = read_seed(rk, sample, index);
+    st.params = g;
   }
   rk.finish();
   return st;
@@ -458,7 +469,8 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
 const std::vector<std::string>& stage_kinds() {
   static const std::vector<std::string> kinds = {
       "lattice", "random", "read", "ed_gas",       "ls_compress", "expand",
-      "compress", "pressure_steps", "fix_rattlers", "set",         "write"};
+      "compress", "pressure_steps", "fix_rattlers", "set",         "write",
+      "aggregate"};
   return kinds;
 }
 

@@ -116,6 +116,7 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
           else if constexpr (std::is_same_v<P, ExpandStage>) return run_expand(ctx, p);
           else if constexpr (std::is_same_v<P, PressureStepsStage>) return run_pressure_steps(ctx, p);
           else if constexpr (std::is_same_v<P, FixRattlersStage>) return run_fix_rattlers(ctx, p);
+          else if constexpr (std::is_same_v<P, AggregateStage>) return run_aggregate(ctx, p);
           else throw NotImplemented("stage kind '" + st.kind + "' is not implemented yet");
         },
         st.params);

@@ -136,9 +136,20 @@ struct FixRattlersStage {
   friend bool operator==(const FixRattlersStage&, const FixRattlersStage&) = default;
 };
 
+/// [GRC] method 2, first step: Maxwell velocities of rms V0 in a fixed cell, MD with the
+/// cohesive law until every grain belongs to one cluster and the packing is in equilibrium.
+struct AggregateStage {
+  double velocity_ratio = 0;         ///< V0 / V*, V* = sqrt(F0 D0 / m) ([GRC] eq. 7)
+  std::uint64_t seed = 0;
+  std::int64_t max_steps = 0;        ///< 0: no limit
+  std::int64_t cluster_every = 10000;  ///< steps between cluster counts (progress)
+  EquilibriumTolerances tolerance;   ///< force, moment, kinetic (the cell is fixed)
+  friend bool operator==(const AggregateStage&, const AggregateStage&) = default;
+};
+
 using StageParams = std::variant<LatticeStage, RandomStage, CompressStage, SetStage, WriteStage,
                                  EdGasStage, LsCompressStage, ExpandStage, PressureStepsStage,
-                                 FixRattlersStage, ReadStage>;
+                                 FixRattlersStage, ReadStage, AggregateStage>;
 
 struct StageSpec {
   int index = 0;     ///< 0-based position in the deck
