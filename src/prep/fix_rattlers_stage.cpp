@@ -4,6 +4,14 @@
 // normals: generically it rests on dim contacts), until each rattler is in equilibrium.
 // Contacts between two backbone grains keep their state (their tangential forces are put back
 // after the frictionless run), so the backbone's forces are unchanged.
+//
+// Checkpoints inside the stage (docs/long-jobs.md): the frame holds the rattlers found at the
+// stage start (a global sorted id list: the backbone is not recomputed from a mid-stage state),
+// the step counter and the last criteria values; the pushes are re-derived from the ids and
+// the seed. The contacts between two frozen grains are given their stage-start state back
+// before each such checkpoint is written, so the checkpoint's own contact data carry it (a
+// frozen-frozen contact only acts on frozen grains, whose forces are discarded every step:
+// its state during the run changes nothing else, and the end of the stage overwrites it).
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -12,6 +20,7 @@
 #include "granpack/comm/halo.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
+#include "granpack/prep/checkpoint.h"
 #include "granpack/prep/backbone.h"
 #include "granpack/prep/material_law.h"
 #include "granpack/prep/md_engine.h"
@@ -66,9 +75,27 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
   s.skin = ctx.deck->numerics.skin * a;
   s.stress_control = false;
 
-  // 1. The rattlers of the current state, by the rule of the compress stages.
+  // Restart inside this stage: the rattlers found when it began and the loop's counters.
+  const nlohmann::json resume = ctx.take_resume_frame();
+  const bool resuming = !resume.is_null();
   std::vector<GlobalId> rattlers;
-  {
+  std::int64_t steps = 0;
+  double worst = 0, ek = 0;
+  if (resuming) {
+    GRANPACK_CHECK(resume.value("stage", "") == "fix_rattlers",
+                   "stage " << ctx.stage_index << " (" << ctx.stage_name
+                            << "): the checkpoint's frame is of a '" << resume.value("stage", "?")
+                            << "' stage, not of fix_rattlers");
+    rattlers = resume.at("rattlers").get<std::vector<GlobalId>>();
+    steps = resume.at("steps").get<std::int64_t>();
+    worst = exact_double(resume.at("worst"));
+    ek = exact_double(resume.at("ek"));
+    GRANPACK_CHECK(std::is_sorted(rattlers.begin(), rattlers.end()) &&
+                       std::adjacent_find(rattlers.begin(), rattlers.end()) == rattlers.end(),
+                   "stage " << ctx.stage_index << " (" << ctx.stage_name
+                            << "): the checkpoint's rattler ids are not sorted and unique");
+  } else {
+    // 1. The rattlers of the current state, by the rule of the compress stages.
     MdEngine<dim> engine(ctx, contact_law_of<dim>(ctx.material), s);
     std::vector<CarryingContact> carrying;
     const double threshold = 1e-4 * force_scale;  // [AR] force tolerance
@@ -83,7 +110,19 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
       if (b.rattler[i]) mine.push_back(ctx.system.particles.id[i]);
     rattlers = all_ids(ctx.world, mine);
   }
+  // The stage-start state of every contact (on a restart: the checkpoint's, whose contacts
+  // between frozen grains hold it; the others are not used).
   const ContactStore<dim> saved = ctx.system.contacts;
+  auto is_rattler = [&](GlobalId id) { return std::binary_search(rattlers.begin(), rattlers.end(), id); };
+  // Contacts between two frozen grains get their stage-start state back.
+  auto restore_backbone_contacts = [&] {
+    for (std::size_t k = 0; k < ctx.system.contacts.size(); ++k) {
+      const ContactKey& key = ctx.system.contacts.key(k);
+      if (is_rattler(key.first) || is_rattler(key.second)) continue;
+      const auto old = saved.find(key);
+      if (old >= 0) ctx.system.contacts.state(k) = saved.state(static_cast<std::size_t>(old));
+    }
+  };
 
   // 2. Frictionless MD of the rattlers alone, pushed by their random forces.
   MaterialSpec frictionless = ctx.material;
@@ -96,16 +135,33 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
     const auto it = std::lower_bound(rattlers.begin(), rattlers.end(), id);
     return pushes[static_cast<std::size_t>(it - rattlers.begin())];
   };
+  // A checkpoint inside the loop is taken in the middle of engine.step(), before ++steps.
+  // Its writer calls this provider before writing the grains and contacts (checkpoint.cpp):
+  // the frozen grains' contacts are put back as the stage found them, in the continuing run
+  // too, so that it and a restarted one go on from the same state.
+  StageFrame<dim> frame(ctx, [&] {
+    restore_backbone_contacts();
+    return nlohmann::json{{"stage", "fix_rattlers"},
+                          {"rattlers", rattlers},
+                          {"steps", steps},
+                          {"worst", exact(worst)},
+                          {"ek", exact(ek)}};
+  });
+  // On a mid-step restart the engine's constructor completes the interrupted step.
   MdEngine<dim> engine(ctx, contact_law_of<dim>(frictionless), s);
   auto& p = ctx.system.particles;
-  std::int64_t steps = 0;
-  double worst = 0, ek = 0;
   const double ek_limit = f.tolerance * f.tolerance * push * a;
   std::ostringstream head;
   head << "  " << rattlers.size() << " rattlers pushed by " << f.force
        << " a^2 P onto the frozen backbone (frictionless), dt " << s.dt << " s";
+  if (resuming) head << "; resumed after " << steps << " steps of the stage";
   ctx.log->info(head.str());
+  bool step_completed = resuming;
   while (true) {
+    if (step_completed) {
+      step_completed = false;
+      ++steps;
+    }
     if (steps % 50 == 0) {
       double local_f = 0, local_e = 0;
       for (std::size_t i = 0; i < p.n_owned(); ++i) {
@@ -124,19 +180,13 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
     }
     if (f.max_steps > 0 && steps >= f.max_steps) break;
     engine.step();
-    ++steps;
+    step_completed = true;
   }
   const bool settled = worst < f.tolerance && ek < ek_limit;
 
   // 3. Backbone contacts get their frictional state back; the coordination of every grain
   //    (any contact carrying force) is treatment II's x_i.
-  auto is_rattler = [&](GlobalId id) { return std::binary_search(rattlers.begin(), rattlers.end(), id); };
-  for (std::size_t k = 0; k < ctx.system.contacts.size(); ++k) {
-    const ContactKey& key = ctx.system.contacts.key(k);
-    if (is_rattler(key.first) || is_rattler(key.second)) continue;
-    const auto old = saved.find(key);
-    if (old >= 0) ctx.system.contacts.state(k) = saved.state(static_cast<std::size_t>(old));
-  }
+  restore_backbone_contacts();
   std::vector<double> count(p.size(), 0.0);
   engine.for_each_contact([&](std::size_t i, std::size_t j, const Vec<dim>&, const ContactState<dim>& st) {
     if (st.normal_force > 0) count[i] += 1, count[j] += 1;

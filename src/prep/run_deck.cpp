@@ -133,8 +133,8 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
     log.info("  done: phi " + fmt_opt(r.phi) + ", steps " + std::to_string(r.steps) +
              ", wall " + fmt_opt(r.wall_seconds) + " s");
     // Between stages: a checkpoint (cheap next to a stage), and the place where a stage
-    // that cannot be checkpointed inside (fix_rattlers) honours a stop signal, as does an
-    // event-driven stage for a signal during its last piece.
+    // without checkpoints inside honours a stop signal, as does an event-driven stage for a
+    // signal during its last piece.
     if (index + 1 < deck.stages.size() && ctx.decomposition && checkpointer.policy().enabled()) {
       const int bits = checkpointer.global_request(ctx.system.step);
       checkpointer.write(ctx, false);

@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# Checkpoints inside fix_rattlers continue exactly.
+#  1. A small packing (random gas -> short compress) whose rattlers are pushed onto the frozen
+#     backbone by fix_rattlers, uninterrupted, with a checkpoint every 400 steps, on 1 and on 2
+#     ranks.
+#  2. The same deck and schedule, killed with kill -9 (mpiexec and the ranks) after a
+#     checkpoint inside fix_rattlers, restarted from it, killed again after a later one,
+#     restarted to the end. Both restarts must resume inside fix_rattlers (the log says
+#     "inside stage 2 'fixed'").
+#  3. final.h5 equals the uninterrupted one bit for bit (tests/support/same_state.py), and
+#     report.json has the same stage values: the frame holds the rattlers found at the stage
+#     start and the loop counters, the checkpoint the backbone contacts' stage-start state
+#     (docs/long-jobs.md). kill -9, not a stop signal: a signal checkpoint is taken at a step
+#     that depends on the clock, which changes the trajectory's bits.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+scratch=$(mktemp -d)
+pid=
+stop_run() { [ -n "$pid" ] && kill -9 $(pgrep -P "$pid") "$pid" 2>/dev/null; wait "$pid" 2>/dev/null; pid=; }
+trap 'stop_run; rm -rf "$scratch"' EXIT
+deck=$scratch/fix.toml
+cat > "$deck" <<'TOML'
+[sample]
+dimension = 3
+n = 250
+diameter = 1.0e-3
+seed = 11
+[material]
+density = 2500.0
+normal_law = "hertz"
+young_modulus = 2.88e8
+poisson_ratio = 0.3
+friction = 0.3
+damping = 0.98
+[output]
+log_every = 100000
+[[stage]]
+kind = "random"
+phi = 0.45
+[[stage]]
+name = "D"
+kind = "compress"
+pressure = 1.0e4
+inertia_max = 1.0e-2
+max_steps = 6000
+[[stage]]
+name = "fixed"
+kind = "fix_rattlers"
+max_steps = 6025
+TOML
+every=400
+run() { local o=$1; shift; mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$o" -q \
+          --checkpoint-every-steps $every --checkpoint-every-seconds 0 "$@" < /dev/null; }
+# Checkpoints written inside fix_rattlers (stage 2) so far, over every leg.
+inside() {
+  awk '/^stage /{ s = $2 } /inside the stage/ && s == 2 { c++ } END { print c + 0 }' "$out/log.txt" 2>/dev/null || echo 0
+}
+# Starts a leg in the background (pid: mpiexec's) and waits for a new checkpoint inside
+# fix_rattlers.
+leg() {
+  local before; before=$(inside)
+  mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$out" -q \
+    --checkpoint-every-steps $every --checkpoint-every-seconds 0 "$@" \
+    < /dev/null >> "$scratch/chain.txt" 2>&1 &
+  pid=$!
+  for _ in $(seq 1 1200); do
+    [ "$(inside)" -gt "$before" ] && return 0
+    kill -0 $pid 2>/dev/null || return 1
+    sleep 0.05
+  done
+  return 1
+}
+info_stage() { "$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p'; }
+
+chain() {
+  np=$1 whole=$scratch/whole$1 out=$scratch/chain$1
+  t0=$(date +%s.%N)
+  run "$whole" > "$whole.txt" 2>&1 || { echo "FAIL: uninterrupted run"; tail "$whole.txt"; return 1; }
+  wall=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.1f", b - a }')
+  out=$whole; whole_inside=$(inside); out=$scratch/chain$1
+
+  leg || { echo "FAIL: no checkpoint inside fix_rattlers (uninterrupted run: $wall s)"; tail "$scratch/chain.txt"; return 1; }
+  stop_run   # kill -9
+  echo "killed inside fix_rattlers; checkpoint at stage $(info_stage)"
+  leg --restart "$out/checkpoint.h5" || { echo "FAIL: no second checkpoint inside fix_rattlers"; tail "$scratch/chain.txt"; return 1; }
+  stop_run
+  echo "killed inside fix_rattlers again; checkpoint at stage $(info_stage)"
+  run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1 \
+    || { echo "FAIL: last restart"; tail "$scratch/chain.txt"; return 1; }
+  echo "uninterrupted run $wall s with $whole_inside checkpoints inside fix_rattlers; the chain wrote $(inside)"
+  [ "$(grep -c "inside stage 2 'fixed'" "$out/log.txt")" -eq 2 ] \
+    || { echo "FAIL: the restarts did not both resume inside fix_rattlers"; grep "restart from" "$out/log.txt"; return 1; }
+  grep "resumed after" "$out/log.txt"
+
+  if ! /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$whole/final.h5" "$out/final.h5"; then
+    return 1
+  fi
+  if ! /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_report.py" "$whole/report.json" "$out/report.json"
+  then echo "FAIL: report.json of the chain differs"; return 1; fi
+  echo "$np rank(s): identical"
+}
+passed=0 failed=0
+for n in 1 2; do
+  if chain $n; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+  stop_run
+done
+echo "restart fix_rattlers: $passed passed, $failed failed"
+[ $failed -eq 0 ]
