@@ -18,6 +18,7 @@ scratch=$(mktemp -d)
 pid=
 stop_run() { [ -n "$pid" ] && kill -9 $(pgrep -P "$pid") "$pid" 2>/dev/null; wait "$pid" 2>/dev/null; pid=; }
 trap 'stop_run; rm -rf "$scratch"' EXIT
+. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 deck=$scratch/fix.toml
 cat > "$deck" <<'TOML'
 [sample]
@@ -92,17 +93,6 @@ chain() {
     || { echo "FAIL: the restarts did not both resume inside fix_rattlers"; grep "restart from" "$out/log.txt"; return 1; }
   grep "resumed after" "$out/log.txt"
 
-  if ! /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$whole/final.h5" "$out/final.h5"; then
-    return 1
-  fi
-  if ! /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_report.py" "$whole/report.json" "$out/report.json"
-  then echo "FAIL: report.json of the chain differs"; return 1; fi
-  echo "$np rank(s): identical"
+  same_run "$whole" "$out" "$np"
 }
-passed=0 failed=0
-for n in 1 2; do
-  if chain $n; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
-  stop_run
-done
-echo "restart fix_rattlers: $passed passed, $failed failed"
-[ $failed -eq 0 ]
+over_ranks "restart fix_rattlers"
