@@ -27,6 +27,7 @@
 #include <random>
 #include <sstream>
 
+#include "granpack/analysis/translational_order.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/migration.h"
@@ -164,6 +165,16 @@ template <int dim> nlohmann::json take_frame(RunContext<dim>& ctx, const char* k
   return f;
 }
 
+/// Beyond this many grains the Bragg-peak search ((2 N^(1/dim) + 1)^dim / 2 wave vectors times
+/// N) costs more than the melt itself; the lattice order is then not measured.
+constexpr std::size_t kMaxOrderGrains = 40000;
+
+/// Wave-vector indices up to N^(1/dim): the first peaks of any lattice of N sites in the cell
+/// (FCC of c^3 cells: N^(1/3) = 1.59 c, its (111) peaks at index c).
+template <int dim> int bragg_index_max(std::size_t n) {
+  return static_cast<int>(std::ceil(std::pow(static_cast<double>(n), 1.0 / dim)));
+}
+
 template <int dim> void require_sample(const RunContext<dim>& ctx) {
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index << " (" << ctx.stage_name
                                              << "): there is no sample yet (a lattice or random "
@@ -177,24 +188,39 @@ template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage
   int rank = 0;
   MPI_Comm_rank(ctx.world, &rank);
   auto g = gather_particles(ctx.system.particles, ctx.world);
-  double stats[3] = {0, 0, 0};  // collisions, hard-sphere time, reduced pressure Z
+  // collisions, hard-sphere time, reduced pressure Z, lattice order (-1: not measured), peaks
+  double stats[5] = {0, 0, 0, -1, 0};
   std::vector<Vec<dim>> x;
   const nlohmann::json resume = take_frame(ctx, "ed_gas");
   std::optional<HardSphereMD<dim>> gas;
   std::int64_t total = 0;
+  // The Bragg peaks of the starting configuration (a lattice, usually), whose mean rho_k at
+  // the end says how much of it the melt left; kept in the frame across restarts.
+  BraggPeaks<dim> peaks;
+  bool order_measured = false;
   collectively(ctx.world, [&] {
     if (rank != 0) return;
     total = std::llround(0.5 * e.collisions_per_grain * static_cast<double>(g.size()));
     if (!resume.is_null()) {
       gas.emplace(resume_engine(ctx, resume, g.size()));
+      order_measured = resume.contains("bragg_peaks");
+      if (order_measured)
+        for (const auto& m : resume["bragg_peaks"]) peaks.m.push_back(m.get<std::array<int, dim>>());
     } else {
       gas.emplace(make_gas(ctx, g, e.seed));
       gas->reset_pressure();
+      order_measured = g.size() <= kMaxOrderGrains;
+      if (order_measured) {
+        const auto x0 = gas->positions();
+        peaks = find_bragg_peaks<dim>(x0, ctx.system.cell.length, bragg_index_max<dim>(g.size()),
+                                      0.5);
+      }
     }
   });
   StageFrame<dim> frame(ctx, [&] {
     nlohmann::json f{{"stage", "ed_gas"}};
     if (gas) f["engine"] = base64_encode(gas->save_state());
+    if (order_measured) f["bragg_peaks"] = peaks.m;
     return f;
   });
   run_in_pieces(ctx, [&] {
@@ -211,8 +237,12 @@ template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage
     const double kT = 2.0 * gas->kinetic_energy() / (dim * n);
     stats[2] = gas->pressure() * ctx.system.cell.volume() / (n * kT);
     x = gas->positions();
+    if (order_measured && !peaks.m.empty()) {
+      stats[3] = mean_translational_order<dim>(x, ctx.system.cell.length, peaks);
+      stats[4] = static_cast<double>(peaks.m.size());
+    }
   });
-  MPI_Bcast(stats, 3, MPI_DOUBLE, 0, ctx.world);
+  MPI_Bcast(stats, 5, MPI_DOUBLE, 0, ctx.world);
   scatter_back(ctx, g, x);
   const double n = static_cast<double>(ctx.deck->sample.n);
   std::ostringstream os;
@@ -224,6 +254,15 @@ template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage
   r.values = {{"collisions_per_grain", 2 * stats[0] / n},
               {"hard_sphere_time", stats[1]},
               {"compressibility_factor", stats[2]}};
+  if (stats[3] >= 0) {
+    std::ostringstream lo;
+    lo << "  order left of the starting lattice: mean rho_k " << stats[3] << " over its "
+       << stats[4] << " Bragg peaks (uncorrelated positions: about " << 1.0 / std::sqrt(n)
+       << ")";
+    ctx.log->info(lo.str());
+    r.values.emplace_back("lattice_order", stats[3]);
+    r.values.emplace_back("lattice_order_random", 1.0 / std::sqrt(n));
+  }
   return r;
 }
 

@@ -3,7 +3,8 @@
 # lattice melted by ed_gas, then grown by ls_compress, written by 1 and by 2 ranks, gives
 # bit-identical positions (velocities are drawn in id order on rank 0). Also: the LS stage
 # keeps the grain diameter and reaches the target solid fraction by shrinking the cell; the
-# grains leave at rest without overlaps (smallest centre distance >= diameter).
+# grains leave at rest without overlaps (smallest centre distance >= diameter); the order left
+# of the lattice that ed_gas reports is the one of the gas it wrote.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 scratch=$(mktemp -d)
@@ -93,6 +94,14 @@ if set(ls["values"]) != {"collisions_per_grain_0.450_0.500", "collisions_per_gra
 melt = r["stages"][1]["values"]
 if abs(melt["collisions_per_grain"] - 20) > 1e-9:
     fails.append(f"ed_gas collisions per grain {melt['collisions_per_grain']}")
+# The order left of the FCC lattice (4x4x4 cells: its (111) Bragg peaks at wave-vector index 4),
+# recomputed from the written gas: mean over the 4 peaks of |sum_j exp(i k.x_j)| / N.
+s_gas2, _, _, L_gas, _ = load(f"{d}/np2/gas.h5")
+x = s_gas2 * L_gas
+rho = np.mean([abs(np.exp(1j * (x @ (2 * np.pi * 4 * np.array(v) / L_gas))).mean())
+               for v in [(1, 1, 1), (1, 1, -1), (1, -1, 1), (1, -1, -1)]])
+if "lattice_order" not in melt or abs(melt["lattice_order"] - rho) > 1e-9:
+    fails.append(f"ed_gas lattice_order {melt.get('lattice_order')} against {rho} from gas.h5")
 for f in fails: print("FAIL:", f)
 print(f"hard-sphere stages: {'ok' if not fails else str(len(fails)) + ' failures'}")
 sys.exit(1 if fails else 0)
