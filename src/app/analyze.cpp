@@ -22,6 +22,7 @@ template <int dim> nlohmann::json analyze(MPI_Comm world, const AnalyzeOptions& 
   j.update(analyze_network(v));
   j.update(analyze_pairs(v, opt.pairs));
   j["motifs"] = analyze_motifs(v);
+  j["interactions"] = analyze_interactions(v);
   if constexpr (dim == 3) j["order"] = analyze_order(v);
   if constexpr (dim == 3)
     for (const char* k : {"Q4_local_mean", "Q6_local_mean", "Q6_global", "crystalline_fraction"})
@@ -75,6 +76,17 @@ std::string table(const nlohmann::json& j) {
     row("triangles, tetrahedra/grain", num(j["motifs"]["triangles_per_grain"]) + ", " +
                                            num(j["motifs"]["tetrahedra_per_grain"]) + " (in a tetrahedron: " +
                                            num(j["motifs"]["fraction_in_tetrahedron"]) + ")");
+  if (j.contains("interactions") && j["interactions"].contains("force_scale")) {
+    const auto& c = j["interactions"];
+    row("interactions: z, z+ z- z0", num(c["z"]) + ", " + num(c["z_plus"]) + " " + num(c["z_minus"]) +
+                                          " " + num(c["z_zero"]) + " (distant " + num(c["distant"]) + ")");
+    row("Rumpf <N> / eq. (17)", num(c["rumpf"]["mean_normal_force"]) + " / " +
+                                    num(c["rumpf"]["predicted_eq17"]) + " N (relative error " +
+                                    num(c["rumpf"]["relative_error"]) + ")");
+    row(("F_perc / " + c["force_scale_is"].get<std::string>()).c_str(),
+        num(c["F_perc_over_Fs"]) + " (all directions " + num(c["F_perc_all_directions_over_Fs"]) + ")");
+    row("vanishing, |N| > F_s/10", num(c["fraction_vanishing"]) + ", " + num(c["fraction_above_tenth"]));
+  }
   if (j.contains("order")) {
     for (const char* dc : {"1.35", "1.40"}) {
       const auto& o = j["order"][dc];

@@ -54,16 +54,24 @@ template <int dim> nlohmann::json analyze_pairs(const PackingView<dim>& v, const
   for (auto* acc : {&z1, &z3}) all_reduce(*acc, v.world);
   const double n = double(v.n), n3 = n - double(v.backbone.metrics.rattlers);
   const double volume = v.system.cell.volume();
-  const auto r1 = g1.finish(n, volume), r3 = g3.finish(n3, volume);
-  const auto zh1 = z1.finish(n), zh3 = z3.finish(n3);
+  const auto r1 = g1.finish(n, volume);
+  const auto zh1 = z1.finish(n);
   nlohmann::json j;
   std::vector<double> r_mid(r1.r_lo.size());
   for (std::size_t k = 0; k < r_mid.size(); ++k) r_mid[k] = 0.5 * (r1.r_lo[k] + r1.r_hi[k]);
   j["g_r_range"] = r_max;
-  j["g_r"] = {{"r_over_a", r_mid}, {"g_I", r1.g}, {"g_III", r3.g}};
-  j["z_h"] = {{"h_over_a", grid}, {"z_I", zh1}, {"z_III", zh3}};
+  j["g_r"] = {{"r_over_a", r_mid}, {"g_I", r1.g}, {"g_III", nullptr}};
+  j["z_h"] = {{"h_over_a", grid}, {"z_I", zh1}, {"z_III", nullptr}};
   j["z_h_fit_I"] = fit_json(grid, zh1);
-  j["z_h_fit_III"] = fit_json(grid, zh3);
+  j["z_h_fit_III"] = nullptr;
+  // Treatment III (rattlers removed) needs a backbone: a gas or a loose, unjammed file has none.
+  if (n3 >= 2) {
+    const auto r3 = g3.finish(n3, volume);
+    const auto zh3 = z3.finish(n3);
+    j["g_r"]["g_III"] = r3.g;
+    j["z_h"]["z_III"] = zh3;
+    j["z_h_fit_III"] = fit_json(grid, zh3);
+  }
   return j;
 }
 

@@ -35,6 +35,8 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   v.deck = parse_deck(meta.deck_text, file.string() + ":/deck");
   v.friction = friction_of(v.deck, meta.stage_index);
   v.diameter = v.deck.sample.diameter;
+  v.cohesion_force = v.deck.material.cohesion_force;
+  v.cohesion_range = v.deck.material.cohesion_range;
 
   auto& sys = v.system;
   sys.cell = cfg.cell;
@@ -89,17 +91,26 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
       continue;
     }
     const Vec<dim> r = sys.cell.length.cwiseProduct(p.position[j] - p.position[i]);
-    v.contacts.push_back({i, j, r, sys.contacts.state(k).normal_force,
-                          sys.contacts.state(k).tangential_force});
+    const auto& st = sys.contacts.state(k);
+    const bool distant = (st.flags & kDistant) != 0;
+    // [GRC] eq. 4-5: -F0 in contact, -F0 (1 - g/D0) across a gap g (stored pairs have g < D0).
+    double attraction = 0;
+    if (v.cohesion_force > 0)
+      attraction = distant ? -v.cohesion_force *
+                                 (1.0 - std::max(0.0, r.norm() - p.radius[i] - p.radius[j]) /
+                                            v.cohesion_range)
+                           : -v.cohesion_force;
+    v.contacts.push_back({i, j, r, st.normal_force, st.tangential_force, attraction, distant});
   }
   GRANPACK_CHECK(global_sum(world, lost) == 0,
                  file.string() << ": " << global_sum(world, lost)
                                << " contacts name grains that are not in contact range");
 
-  // Measured (elastic) stress, eq. (8) without the kinetic part.
+  // Measured static stress, eq. (8) without the kinetic part; with cohesion N = N^e + N^a.
   Tensor<dim> virial = Tensor<dim>::Zero();
   for (const auto& c : v.contacts)
-    virial += (c.normal_force * c.branch.normalized() + c.tangential_force) * c.branch.transpose();
+    virial += (c.total_normal_force() * c.branch.normalized() + c.tangential_force) *
+              c.branch.transpose();
   MPI_Allreduce(MPI_IN_PLACE, virial.data(), dim * dim, MPI_DOUBLE, MPI_SUM, world);
   v.stress = virial / sys.cell.volume();
   v.pressure = v.stress.trace() / dim;

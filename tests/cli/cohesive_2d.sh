@@ -13,7 +13,12 @@
 # - the static pressure from these forces is P within 1e-4 F0/a;
 # - report.json's [GRC] coordination (z over all interactions, z+ / z- / z0 by the sign of the
 #   static normal force beyond 1e-4 F0, distant fraction) equals the count from the file;
-# - `granpack stiffness` refuses the packing (exit 3: not implemented for [GRC] laws yet).
+# - `granpack stiffness` refuses the packing (exit 3: not implemented for [GRC] laws yet);
+# - `granpack analyze` (1 and 2 ranks, same results) gives the interaction statistics of
+#   [GRC] sec. IV that the file gives independently: z+/z-/z0, the vanishing and > F0/10
+#   fractions, the N/F0 and force-angle histograms, Rumpf's eq. (17) and the percolation
+#   threshold F_perc (here by bisection over |F| with a breadth-first unwrapping, not the
+#   union-find of the code).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 scratch=$(mktemp -d)
@@ -30,6 +35,11 @@ code=$?
 if [ $code -ne 3 ] || ! grep -q "cohesion or rolling resistance (\[GRC\]) is not implemented yet" "$scratch/stiff.txt"; then
   echo "FAIL: stiffness of a cohesive packing: exit $code"; cat "$scratch/stiff.txt"; exit 1
 fi
+for np in 1 2; do
+  if ! mpiexec -n $np "$GRANPACK_EXE" analyze "$scratch/np2/final.h5" --json "$scratch/an$np.json" > "$scratch/an$np.txt" 2>&1; then
+    echo "FAIL: analyze on $np rank(s):"; tail -20 "$scratch/an$np.txt"; exit 1
+  fi
+done
 /usr/bin/python3 - "$scratch" <<'PY'
 import json, sys
 import h5py, numpy as np
@@ -113,6 +123,73 @@ for np_ in (1, 2):
         if k not in vals or abs(vals[k] - v) > 1e-12:
             fails.append(f"np{np_}: report {k} = {vals.get(k)}, the file gives {v}")
     print(f"np{np_}: " + ", ".join(f"{k} {v:.4f}" for k, v in counts.items()))
+    if np_ != 2:
+        continue
+    # granpack analyze's interaction section against the file (this is the file it analysed).
+    an = [json.load(open(f"{d}/an{k}.json"))["interactions"] for k in (1, 2)]
+    def close(key, v1, v2, tol=1e-12):
+        if abs(v1 - v2) > tol * max(1.0, abs(v2)):
+            fails.append(f"analyze {key}: {v1}, expected {v2}")
+    t = np.where(distant[:, None], 0.0, T - (T * n).sum(1)[:, None] * n)
+    Tm = np.sqrt((t ** 2).sum(1))
+    F = np.hypot(Ns, Tm)
+    tol = 1e-4 * F0
+    d_grain = 2 * R
+    z_all = 2 * len(Ns) / len(x)
+    pred = np.pi * (np.diag(sigma).mean()) * (d_grain ** 2).mean() / (d_grain.mean() * z_all * phi)
+    expect = {"z_plus": counts["z_plus"], "z_minus": counts["z_minus"], "z_zero": counts["z_zero"],
+              "fraction_vanishing": (F < tol).mean(), "fraction_above_tenth": (np.abs(Ns) > 0.1 * F0).mean()}
+    for k, v in expect.items():
+        close(k, an[1][k], v)
+    close("rumpf mean N", an[1]["rumpf"]["mean_normal_force"], Ns.mean())
+    close("rumpf eq. (17)", an[1]["rumpf"]["predicted_eq17"], pred, 1e-9)
+    hN, _ = np.histogram(Ns / F0, bins=np.linspace(-1.5, 3.5, 101))
+    th = np.degrees(np.arctan2(Tm, Ns))[F >= tol]
+    hA, _ = np.histogram(th, bins=np.linspace(0, 180, 37))
+    for key, h in (("normal_force_pdf", hN), ("force_angle_pdf", hA)):
+        got = np.array(an[1][key]["pdf"]) * an[1][key]["count"] * (np.diff(an[1][key]["edges"])[0])
+        if not np.allclose(got, h, atol=1e-9):
+            fails.append(f"analyze {key}: counts {got[:8]}..., the file gives {h[:8]}...")
+    # F_perc: the largest |F| whose network {|F| >= F} wraps around the cell.
+    img = np.round(((x[first] + r) - x[second]) / L).astype(int)  # image of the second grain
+    def wraps(thr):
+        sel = np.nonzero(F >= thr)[0]
+        adj = {}
+        for e in sel:
+            i, j, s_ = first[e], second[e], img[e]
+            adj.setdefault(i, []).append((j, s_))
+            adj.setdefault(j, []).append((i, -s_))
+        seen = {}
+        for start in adj:
+            if start in seen: continue
+            seen[start] = np.zeros(2, int); stack = [start]
+            while stack:
+                u = stack.pop()
+                for w, s_ in adj[u]:
+                    o = seen[u] + s_
+                    if w not in seen:
+                        seen[w] = o; stack.append(w)
+                    elif (seen[w] != o).any():
+                        return True
+        return False
+    cand = np.unique(F)[::-1]
+    lo, hi = 0, len(cand) - 1  # find the first (largest) candidate that wraps
+    if wraps(cand[hi]):
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if wraps(cand[mid]): hi = mid
+            else: lo = mid + 1
+        fperc = cand[lo]
+    else:
+        fperc = 0.0
+    close("F_perc", an[1]["F_perc_over_Fs"], fperc / F0)
+    if not 0 < fperc < F.max():
+        fails.append(f"F_perc {fperc} outside (0, max |F|)")
+    for k in an[0]:
+        if isinstance(an[0][k], (int, float)) and not isinstance(an[0][k], bool):
+            close(f"{k} (1 against 2 ranks)", an[0][k], an[1][k])
+    print(f"analyze: F_perc/F0 {fperc / F0:.4g}, Rumpf <N>/pred {Ns.mean() / pred:.4f}, "
+          f"vanishing {expect['fraction_vanishing']:.4f}")
 for m in fails:
     print("FAIL:", m)
 sys.exit(1 if fails else 0)

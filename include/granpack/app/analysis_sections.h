@@ -32,6 +32,11 @@ struct PairOptions {
 /// g(r) and z(h) for all grains (treatment I) and without rattlers (III), fits of eq. (35).
 template <int dim> nlohmann::json analyze_pairs(const PackingView<dim>& v, const PairOptions& o);
 
+/// All interactions (contacts and cohesive distant pairs) with N = N^e + N^a ([GRC] sec. IV):
+/// z+, z-, z0, the distribution of N / F_s and of the force angle (fig. 9, 15), Rumpf's
+/// eq. (17), the percolation threshold F_perc (sec. IV B 1).
+template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v);
+
 /// Triangles and tetrahedra of the backbone contact network per backbone grain ([AR] III D).
 template <int dim> nlohmann::json analyze_motifs(const PackingView<dim>& v);
 

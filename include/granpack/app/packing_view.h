@@ -23,6 +23,9 @@ template <int dim> struct ContactView {
   Vec<dim> branch;           ///< r_j - r_i (real)
   double normal_force = 0;   ///< N^e
   Vec<dim> tangential_force; ///< T
+  double attraction = 0;     ///< N^a of [GRC] eq. 4-5 (0 without cohesion), from the geometry
+  bool distant = false;      ///< a cohesive pair across a gap (flag kDistant): N^e = T = 0
+  double total_normal_force() const { return normal_force + attraction; }
 };
 
 template <int dim> struct PackingView {
@@ -34,7 +37,8 @@ template <int dim> struct PackingView {
   std::unique_ptr<Decomposition<dim>> decomposition;
   Halo<dim> halo;
   double ghost_width = 0;    ///< real width of the ghost layer
-  double phi = 0, pressure = 0;  ///< solid fraction; elastic pressure tr(sigma)/dim
+  double phi = 0, pressure = 0;  ///< solid fraction; static pressure tr(sigma)/dim (N^e + N^a, T)
+  double cohesion_force = 0, cohesion_range = 0;  ///< F0, D0 of the file's deck (0: none)
   Tensor<dim> stress = Tensor<dim>::Zero();
   double force_threshold = 0;    ///< N above which a contact carries force
   std::vector<ContactView<dim>> contacts;
