@@ -65,6 +65,14 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.5, 100.0));
   analyze_cmd->add_option("--gr-bin", pair_opts.bin_width, "bin width of g(r) in diameters (default 0.01)")
       ->check(CLI::Range(1e-4, 1.0));
+  granpack::DensityOptions density_opts;
+  bool no_density = false;
+  analyze_cmd->add_flag("--no-density", no_density, "2D: skip I(k), the fractal fit and the holes");
+  analyze_cmd->add_option("--mesh", density_opts.spacing, "2D: mesh spacing of the density field in diameters (default 0.01)")
+      ->check(CLI::Range(1e-4, 0.5));
+  analyze_cmd->add_option("--fit-kmax", density_opts.k_max_wavelength,
+                          "2D: fit eq. (28) up to k = 2 pi / (this * a) (default 1)")
+      ->check(CLI::Range(0.05, 100.0));
   auto* stiffness_cmd = app.add_subcommand("stiffness", "rigidity, mechanisms and elastic moduli");
   stiffness_cmd->add_option("file", file, "configuration file (.h5)")->required();
   stiffness_cmd->add_option("--json", json_out, "also write the results as JSON to this file");
@@ -120,6 +128,8 @@ int main(int argc, char** argv) {
       granpack::AnalyzeOptions a;
       a.file = file;
       a.pairs = pair_opts;
+      a.density = density_opts;
+      a.density.enabled = !no_density;
       if (!json_out.empty()) a.json = json_out;
       if (!h5_out.empty()) a.hdf5 = h5_out;
       granpack::analyze_file(MPI_COMM_WORLD, a);

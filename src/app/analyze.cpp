@@ -23,6 +23,8 @@ template <int dim> nlohmann::json analyze(MPI_Comm world, const AnalyzeOptions& 
   j.update(analyze_pairs(v, opt.pairs));
   j["motifs"] = analyze_motifs(v);
   j["interactions"] = analyze_interactions(v);
+  if constexpr (dim == 2)
+    if (opt.density.enabled) j["density"] = analyze_density(v, opt.density);
   if constexpr (dim == 3) j["order"] = analyze_order(v);
   if constexpr (dim == 3)
     for (const char* k : {"Q4_local_mean", "Q6_local_mean", "Q6_global", "crystalline_fraction"})
@@ -59,7 +61,7 @@ std::string table(const nlohmann::json& j) {
   row("fractions x_i (backbone)", xs);
   row("<N> / N", num(j["mean_normal_force"]));
   row("Z(5/3), Z(2)", num(j["Z_5_3"]) + ", " + num(j["Z_2"]));
-  if (j.contains("pressure_eq22"))
+  if (j.contains("pressure_eq22") && !j["pressure_eq22"].is_null())
     row("eq. (22) z Phi <N>/(pi a^2)", num(j["pressure_eq22"]) + " Pa (relative error " +
                                            num(j["eq22_relative_error"]) + ")");
   if (j.contains("X1")) row("X1, M1, M2 (table VI)", num(j["X1"]) + ", " + num(j["M1"]) + ", " + num(j["M2"]));
@@ -86,6 +88,15 @@ std::string table(const nlohmann::json& j) {
     row(("F_perc / " + c["force_scale_is"].get<std::string>()).c_str(),
         num(c["F_perc_over_Fs"]) + " (all directions " + num(c["F_perc_all_directions_over_Fs"]) + ")");
     row("vanishing, |N| > F_s/10", num(c["fraction_vanishing"]) + ", " + num(c["fraction_above_tenth"]));
+  }
+  if (j.contains("density")) {
+    const auto& d = j["density"];
+    row("d_F, xi/a (eq. 28 fit)", num(d["fit_eq28"]["d_F"]) + " +- " + num(d["fit_eq28"]["d_F_error"]) + ", " +
+                                   num(d["fit_eq28"]["xi_over_a"]) + " +- " + num(d["fit_eq28"]["xi_error_over_a"]) +
+                                   (d["fit_eq28"]["fractal_regime"].get<bool>() ? "" : " (no fractal regime)"));
+    row("holes, <R>_w/a (eq. 30)", std::to_string(d["holes"]["count"].get<long long>()) + " (" +
+                                       std::to_string(d["holes"]["wrapping"].get<long long>()) + " wrapping), " +
+                                       num(d["holes"]["R_w_over_a"]));
   }
   if (j.contains("order")) {
     for (const char* dc : {"1.35", "1.40"}) {

@@ -110,8 +110,14 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   j["M2"] = num(fs.all.weak_mobilization);
   j["divalent_contacts"] = split_json(fs.divalent);
   j["trivalent_contacts"] = split_json(fs.trivalent);
-  j["pressure_eq22"] = fs.pressure_eq22;
-  j["eq22_relative_error"] = fs.eq22_ratio - 1;
+  // Eq. (22) is for equal diameters a; polydisperse packings ([GRC]'s disks) have the general
+  // Rumpf relation, eq. (17) of [GRC], in the interaction section.
+  if (v.deck.sample.distribution == "monodisperse") {
+    j["pressure_eq22"] = fs.pressure_eq22;
+    j["eq22_relative_error"] = fs.eq22_ratio - 1;
+  } else {
+    j["pressure_eq22"] = j["eq22_relative_error"] = nullptr;
+  }
   if (e_tilde > 0) {
     j["kappa"] = fs.kappa;
     j["delta_phi"] = fs.delta_phi_eq28;

@@ -37,6 +37,17 @@ template <int dim> nlohmann::json analyze_pairs(const PackingView<dim>& v, const
 /// eq. (17), the percolation threshold F_perc (sec. IV B 1).
 template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v);
 
+struct DensityOptions {
+  bool enabled = true;           ///< 2D only; off with --no-density
+  double spacing = 0.01;         ///< mesh spacing / a ([GRC] V C: about a/100)
+  double max_nodes = 6.4e7;      ///< coarser mesh beyond this (about 1.5 GB of FFT arrays)
+  double k_max_wavelength = 1.0; ///< the fit of eq. (28) stops at k = 2 pi / (this * a)
+  int bins = 60;                 ///< logarithmic |k| bins of I(k)
+};
+/// 2D density fluctuations ([GRC] sec. V): I(k) (eq. 25), the fit of eq. (28) giving d_F and
+/// xi, hole radii and <R>_w (eq. 29-30). Collective; computed on rank 0.
+nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o);
+
 /// Triangles and tetrahedra of the backbone contact network per backbone grain ([AR] III D).
 template <int dim> nlohmann::json analyze_motifs(const PackingView<dim>& v);
 

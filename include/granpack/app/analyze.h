@@ -20,6 +20,7 @@ struct AnalyzeOptions {
   /// pressure: the [AR] equilibrium tolerance, below which forces are not resolved.
   double threshold = 1e-4;
   PairOptions pairs;  ///< g(r) range and bin
+  DensityOptions density;  ///< 2D density fluctuations and holes
 };
 
 /// Returns the JSON text of the results (on every rank); rank 0 prints the table.

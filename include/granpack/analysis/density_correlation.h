@@ -1,0 +1,75 @@
+#pragma once
+// Density fluctuations of 2D packings ([GRC] sec. V): the scattering function I(k) of the
+// solid indicator chi(r), its fit by the fractal-blob form (eq. 27-28) giving d_F and xi, and
+// the holes (connected regions of chi = 0) with their equivalent radii (eq. 29-30). MPI-free;
+// `granpack analyze` calls it on rank 0 with the gathered disks.
+//
+// chi is sampled at the nodes of a regular periodic mesh (spacing about a/100, [GRC] V C),
+// I(k) = |chi^(k)|^2 / A (eq. 25) from a 2D FFT (FFTW), averaged in bins of |k|. The k = 0
+// term (the mean) is dropped: I(k) then is the transform of C(r) - Phi^2.
+//
+// Eq. (28) is the Fourier transform of eq. (27), C(r) - Phi^2 = Phi (r/l)^(d_F-2) exp(-r/xi).
+// Its hypergeometric function of -xi^2 k^2 is evaluated through the equivalent closed form
+//   2 pi int_0^inf r^(d-1) e^(-r/xi) J0(kr) dr = 2 pi Gamma(d) (p^2+k^2)^(-d/2) P_(d-1)(p/s),
+// p = 1/xi, s = sqrt(p^2 + k^2), P_nu the Legendre function, whose series
+// 2F1(-nu, nu+1; 1; (1 - p/s)/2) converges for every k (argument below 1/2).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "granpack/core/vec.h"
+
+namespace granpack {
+
+struct Disk {
+  Vec<2> center;  ///< real coordinates (any image)
+  double radius = 0;
+};
+
+/// The solid indicator on an nx x ny periodic mesh of the cell [0, L1) x [0, L2): node (i, j)
+/// at ((i + 1/2) L1/nx, (j + 1/2) L2/ny), 1 inside a disk. Row-major, index i * ny + j.
+std::vector<std::uint8_t> rasterize_disks(std::span<const Disk> disks, const Vec<2>& L, int nx, int ny);
+
+struct ScatteringCurve {
+  std::vector<double> k;       ///< bin centres (mean |k| of the bin's wave vectors), 1/m
+  std::vector<double> I;       ///< mean I(k) in the bin, m^2
+  std::vector<double> I_error; ///< standard error of the bin mean
+  std::vector<double> count;   ///< wave vectors in the bin
+};
+
+/// I(k) of a mesh, averaged in `bins` logarithmic |k| bins from 2 pi / max(L) to k_max.
+ScatteringCurve scattering_function(const std::vector<std::uint8_t>& chi, const Vec<2>& L, int nx,
+                                    int ny, double k_max, int bins);
+
+/// Eq. (28) without its constant: amplitude * Gamma(d) (p^2+k^2)^(-d/2) P_(d-1)(p/s) * 2 pi,
+/// amplitude = Phi l^(2-d).
+double fractal_blob_intensity(double k, double d_f, double xi, double amplitude);
+/// Legendre function of the first kind P_nu(x), 0 < x <= 1, by its hypergeometric series.
+double legendre_p(double nu, double x);
+
+struct FractalFit {
+  double d_f = 0, xi = 0, amplitude = 0, constant = 0;
+  double d_f_error = 0, xi_error = 0;  ///< from the covariance of the fit (rms residual scaled)
+  double length_l = 0;                 ///< l of eq. (27) from amplitude = Phi l^(2-d)
+  double rms_log_residual = 0;
+  int points = 0;
+  bool converged = false;
+};
+
+/// Least squares (Levenberg-Marquardt) of log I(k) by log(Cst + eq. 28) over k in [k_lo, k_hi].
+/// Starting values from the curve itself; Phi converts the amplitude to l.
+FractalFit fit_fractal_blob(const ScatteringCurve& c, double k_lo, double k_hi, double phi);
+
+struct HoleStatistics {
+  std::int64_t holes = 0;
+  std::int64_t wrapping_holes = 0;    ///< holes that wrap around the periodic cell (excluded)
+  double weighted_mean_radius = 0;    ///< <R>_w of eq. (30) over the non-wrapping holes, m
+  double largest_radius = 0;
+  std::vector<double> radii, nodes;   ///< R_H (eq. 29) and N_H of every non-wrapping hole
+};
+
+/// Connected regions of chi = 0 (4-neighbour connectivity, periodic), their radius of gyration
+/// radius R_H = sqrt(2 <|x - x_c|^2>) (eq. 29, coordinates unwrapped across the boundary).
+HoleStatistics hole_statistics(const std::vector<std::uint8_t>& chi, const Vec<2>& L, int nx, int ny);
+
+}  // namespace granpack

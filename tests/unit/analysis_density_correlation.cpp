@@ -1,0 +1,121 @@
+// Density fluctuations of 2D packings (include/granpack/analysis/density_correlation.h):
+// the rasterised area is the disks' area; I(k) of one disk is its analytic form factor
+// |2 pi R J1(kR)/k|^2 / A; the closed form used for eq. (28) equals the paper's
+// hypergeometric series where that converges and the Hankel integral of eq. (27) elsewhere;
+// the fit recovers d_F and xi from a curve made by eq. (28); holes of known shape give
+// eq. (29)'s radius and wrapping holes are recognised.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "granpack/analysis/density_correlation.h"
+
+namespace granpack {
+namespace {
+
+TEST(DensityCorrelation, RasterisedAreaIsTheDiskArea) {
+  const Vec<2> L(10.0, 8.0);
+  // One disk across the corner of the cell (its four quarters in four corners).
+  std::vector<Disk> d = {{Vec<2>(0.1, 7.9), 1.3}, {Vec<2>(5.0, 4.0), 0.7}};
+  const int nx = 2000, ny = 1600;
+  const auto chi = rasterize_disks(d, L, nx, ny);
+  double nodes = 0;
+  for (auto c : chi) nodes += c;
+  const double area = nodes * (L[0] / nx) * (L[1] / ny);
+  EXPECT_NEAR(area, std::numbers::pi * (1.3 * 1.3 + 0.7 * 0.7), 2e-3);
+}
+
+TEST(DensityCorrelation, SingleDiskGivesItsFormFactor) {
+  const Vec<2> L(20.0, 20.0);
+  const double R = 1.5;
+  std::vector<Disk> d = {{Vec<2>(7.3, 11.1), R}};
+  const int n = 1024;
+  const auto chi = rasterize_disks(d, L, n, n);
+  const auto c = scattering_function(chi, L, n, n, 6.0, 30);
+  ASSERT_GT(c.k.size(), 10u);
+  // |chi^(k)| depends only on |k| for one disk: the bin mean is the form factor at the bin's k
+  // up to its variation across the bin; compare where it is flat (kR < 1).
+  for (std::size_t b = 0; b < c.k.size(); ++b) {
+    const double k = c.k[b];
+    if (k * R > 1.0) continue;
+    const double f = 2 * std::numbers::pi * R * std::cyl_bessel_j(1.0, k * R) / k;
+    EXPECT_NEAR(c.I[b], f * f / (L[0] * L[1]), 0.02 * f * f / (L[0] * L[1])) << "k = " << k;
+  }
+}
+
+TEST(DensityCorrelation, ClosedFormMatchesHypergeometricSeriesAndHankelIntegral) {
+  for (double d : {1.5, 1.93}) {
+    const double xi = 6.0;
+    // Paper's form (eq. 28 without Cst, amplitude Phi l^(2-d) = 1): 2 pi Gamma(d) xi^d 2F1(...).
+    for (double k : {0.01, 0.05, 0.1}) {  // xi k < 1: the 2F1 series converges
+      const double z = -xi * xi * k * k, a = (1 + d) / 2, b = d / 2;
+      double term = 1, sum = 1;
+      for (int n = 0; n < 400; ++n) {
+        term *= (a + n) * (b + n) / ((1.0 + n) * (n + 1)) * z;
+        sum += term;
+      }
+      const double paper = 2 * std::numbers::pi * std::tgamma(d) * std::pow(xi, d) * sum;
+      EXPECT_NEAR(fractal_blob_intensity(k, d, xi, 1.0), paper, 1e-9 * paper);
+    }
+    // Any k: 2 pi int r^(d-1) e^(-r/xi) J0(kr) dr by the trapezoidal rule on a fine grid.
+    for (double k : {0.5, 2.0}) {
+      double s = 0;
+      const double h = 1e-3;
+      for (int i = 1; i < 200000; ++i) {
+        const double r = i * h;
+        s += std::pow(r, d - 1) * std::exp(-r / xi) * std::cyl_bessel_j(0.0, k * r) * h;
+      }
+      const double hankel = 2 * std::numbers::pi * s;
+      EXPECT_NEAR(fractal_blob_intensity(k, d, xi, 1.0), hankel, 2e-3 * std::abs(hankel) + 1e-6);
+    }
+  }
+  EXPECT_NEAR(legendre_p(2.0, 0.3), 0.5 * (3 * 0.09 - 1), 1e-14);  // P_2 is a polynomial
+}
+
+TEST(DensityCorrelation, FitRecoversFractalDimensionAndBlobSize) {
+  ScatteringCurve c;
+  const double d = 1.6, xi = 7.0, amp = 0.4, cst = 0.02;
+  for (int i = 0; i < 40; ++i) {
+    const double k = 0.1 * std::pow(60.0, i / 39.0);
+    c.k.push_back(k);
+    c.I.push_back(cst + fractal_blob_intensity(k, d, xi, amp));
+    c.I_error.push_back(0);
+    c.count.push_back(1);
+  }
+  const FractalFit f = fit_fractal_blob(c, 0.1, 6.0, 0.4);
+  ASSERT_EQ(f.points, 40);
+  EXPECT_NEAR(f.d_f, d, 1e-4);
+  EXPECT_NEAR(f.xi, xi, 1e-3);
+  EXPECT_NEAR(f.constant, cst, 1e-5);
+  EXPECT_LT(f.rms_log_residual, 1e-6);
+}
+
+TEST(DensityCorrelation, HolesAndTheirEquivalentRadii) {
+  // Solid everywhere except a square hole of side s (radius of gyration: 2 <r^2> = s^2 / 3)
+  // and a channel that wraps along y.
+  const int nx = 400, ny = 300;
+  const Vec<2> L(4.0, 3.0);  // spacing 0.01
+  std::vector<std::uint8_t> chi(std::size_t(nx) * ny, 1);
+  for (int i = 100; i < 200; ++i)
+    for (int j = 50; j < 150; ++j) chi[std::size_t(i) * ny + j] = 0;
+  for (int i = 300; i < 310; ++i)
+    for (int j = 0; j < ny; ++j) chi[std::size_t(i) * ny + j] = 0;
+  // A second square hole split by the x boundary (columns 395..399 and 0..4: side 10 nodes).
+  for (int i : {395, 396, 397, 398, 399, 0, 1, 2, 3, 4})
+    for (int j = 200; j < 210; ++j) chi[std::size_t(i) * ny + j] = 0;
+  const HoleStatistics h = hole_statistics(chi, L, nx, ny);
+  EXPECT_EQ(h.holes, 3);
+  EXPECT_EQ(h.wrapping_holes, 1);
+  ASSERT_EQ(h.radii.size(), 2u);
+  // A square of n x n nodes at spacing e: 2 <r^2> = 2 * 2 * e^2 (n^2 - 1) / 12.
+  auto square = [](int n, double e) { return std::sqrt(4 * e * e * (n * n - 1) / 12.0); };
+  // In scan order: the small square (it starts at column 0) first, unwrapped across x = 0.
+  EXPECT_NEAR(h.radii[0], square(10, 0.01), 1e-12);
+  EXPECT_NEAR(h.radii[1], square(100, 0.01), 1e-12);
+  EXPECT_NEAR(h.weighted_mean_radius,
+              (1e4 * square(100, 0.01) + 100 * square(10, 0.01)) / (1e4 + 100), 1e-12);
+}
+
+}  // namespace
+}  // namespace granpack
