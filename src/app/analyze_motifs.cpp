@@ -15,7 +15,7 @@ namespace granpack {
 
 template <int dim> nlohmann::json analyze_motifs(const PackingView<dim>& v) {
   const auto& p = v.particles();
-  const ContactLaw<dim> law = contact_law_of<dim>(v.deck.material);
+  const ContactLaw<dim> law = contact_law_of<dim>(v.material);
   MotifGraph g;
   g.id = p.id;
   g.owned.assign(p.size(), 0);

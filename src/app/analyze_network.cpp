@@ -92,7 +92,7 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   ForceSplitSums pass2(pass1.mean_normal_force());
   pass2.add(samples);
   MPI_Allreduce(MPI_IN_PLACE, pass2.sums().data(), int(pass2.sums().size()), MPI_DOUBLE, MPI_SUM, v.world);
-  const auto& mat = v.deck.material;
+  const auto& mat = v.material;
   const double e_tilde = mat.normal_law == "hertz" && v.deck.sample.distribution == "monodisperse"
                              ? mat.young_modulus / (1 - mat.poisson_ratio * mat.poisson_ratio)
                              : 0.0;

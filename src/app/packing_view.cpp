@@ -12,20 +12,6 @@
 
 namespace granpack {
 
-namespace {
-
-/// Friction coefficient in force when the file was written: the deck's, changed by the
-/// `set` stages that ran up to the file's stage.
-double friction_of(const Deck& deck, int stage_index) {
-  double mu = deck.material.friction;
-  for (const auto& st : deck.stages)
-    if (st.index <= stage_index)
-      if (const auto* s = std::get_if<SetStage>(&st.params); s && s->friction) mu = *s->friction;
-  return mu;
-}
-
-}  // namespace
-
 template <int dim>
 PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
                               const FileMeta& meta, double threshold, double reach) {
@@ -33,10 +19,11 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   v.world = world;
   Configuration<dim> cfg = read_configuration<dim>(world, file);
   v.deck = parse_deck(meta.deck_text, file.string() + ":/deck");
-  v.friction = friction_of(v.deck, meta.stage_index);
+  v.material = material_after(v.deck, meta.stage_index);
+  v.friction = v.material.friction;
   v.diameter = v.deck.sample.diameter;
-  v.cohesion_force = v.deck.material.cohesion_force;
-  v.cohesion_range = v.deck.material.cohesion_range;
+  v.cohesion_force = v.material.cohesion_force;
+  v.cohesion_range = v.material.cohesion_range;
 
   auto& sys = v.system;
   sys.cell = cfg.cell;

@@ -91,8 +91,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const auto start = std::chrono::steady_clock::now();
   ensure_petsc_initialized();
   const PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, 1.5);
-  MaterialSpec material = v.deck.material;
-  material.friction = v.friction;
+  const MaterialSpec& material = v.material;
   const ContactLaw<dim> law = contact_law_of<dim>(material);
   // G and K of [GRC] appendix A (rotation rows of rolling resistance, distant attractions
   // with their negative stiffness) are not assembled yet: refuse rather than ignore them.
@@ -202,7 +201,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j.update(moduli_json(m, positive_definite));
   j["constitutive"] = moduli_json(m1, positive_definite);
   // eq. (30), Hertz monodisperse 3D only: the packing's own z = 2 N_c*/n, Phi and Z(5/3).
-  const auto& mat = v.deck.material;
+  const auto& mat = v.material;
   const double z = 2.0 * double(s.contacts) / double(v.n);
   const double z53 = z_five_thirds(v);
   j["z"] = z;

@@ -207,6 +207,8 @@ NumericsSpec read_numerics(TableReader& r) {
                                      "time step / contact duration of the stiffest contact");
   n.skin = r.number_or("skin", n.skin, Range{0.0, 1.0, true, false},
                        "Verlet skin as a fraction of the diameter");
+  n.max_overlap = r.number_or("max_overlap", n.max_overlap, Range{0.0, 1.0, true, false},
+                              "largest overlap / smaller radius before a run stops (a blow-up check)");
   r.finish();
   return n;
 }
@@ -277,19 +279,81 @@ const toml::value& v_table(const toml::value& table, const std::string& key) {
   return table.as_table().at(key);
 }
 
-/// The keys compress and pressure_steps share.
-void read_compress_controls(TableReader& rk, CompressStage& c) {
+/// The keys of the stress-controlled cell (compress, pressure_steps, stiffen).
+void read_cell_controls(TableReader& rk, CompressStage& c) {
   if (rk.has("inertia_max"))
     c.inertia_max = rk.number("inertia_max", Range::positive(),
                               "cap on the inertia number I of the strain rate");
+  if (rk.has("strain_rate_max"))
+    c.strain_rate_max = rk.number("strain_rate_max", Range::positive(),
+                                  "cap on the strain rate |dL/dt| / L in 1/s");
   c.cell_mass = rk.number_or("cell_mass", 1.0, Range::positive(),
                              "generalised cell mass M / total grain mass");
   c.cell_mass_per_length = rk.boolean_or("cell_mass_per_length", false,
                                          "M = cell_mass x total grain mass x a / L0 ([GRC] eq. 3)");
+}
+
+/// The keys compress and pressure_steps share.
+void read_compress_controls(TableReader& rk, CompressStage& c) {
+  read_cell_controls(rk, c);
   c.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
   c.quench_interval = rk.integer_or("quench_interval", 0, Range::non_negative(),
                                     "steps between velocity quenches of a static packing (0: never)");
   c.tolerance = read_tolerances(rk);
+}
+
+/// The prescribed stress of a stress-controlled stage: `fixed_axes`, then `stress` (per
+/// axis) or `pressure`; zero is allowed only with cohesion ([GRC]'s P* = 0).
+void read_stress_target(TableReader& rk, const toml::value& v, const SampleSpec& sample,
+                      bool cohesive, CompressStage& c) {
+  const int dim = sample.dimension;
+  const char* axis_names[] = {"x", "y", "z"};
+  c.fixed.assign(dim, false);
+  if (rk.has("fixed_axes")) {
+    const toml::value& arr = v_table(v, "fixed_axes");
+    bool ok = arr.is_array();
+    if (ok)
+      for (const auto& e : arr.as_array()) {
+        int axis = -1;
+        for (int a = 0; a < dim; ++a)
+          if (e.is_string() && e.as_string().str == axis_names[a]) axis = a;
+        if (axis < 0 || c.fixed[axis]) ok = false;
+        else c.fixed[axis] = true;
+      }
+    rk.accept("fixed_axes");
+    if (!ok)
+      rk.fail("fixed_axes", "= " + toml_text(arr) + ": expected an array of distinct axis names among " +
+                                std::string(dim == 3 ? "\"x\", \"y\", \"z\"" : "\"x\", \"y\""));
+    int n_fixed = 0;
+    for (bool f : c.fixed) n_fixed += f;
+    if (n_fixed == dim) rk.fail("fixed_axes", "fixes every axis: nothing is stress-controlled");
+  }
+  if (rk.has("stress")) {
+    if (rk.has("pressure")) rk.fail("stress", "give either pressure (isotropic) or stress (per axis), not both");
+    const toml::value& arr = v_table(v, "stress");
+    rk.accept("stress");
+    bool ok = arr.is_array() && arr.as_array().size() == std::size_t(dim);
+    if (ok)
+      for (const auto& e : arr.as_array()) {
+        double x = e.is_floating() ? e.as_floating() : e.is_integer() ? double(e.as_integer()) : -1;
+        ok = ok && (cohesive ? x >= 0 : x > 0) && std::isfinite(x) && number_is_exact(e);
+        c.stress.push_back(x);
+      }
+    if (!ok)
+      rk.fail("stress", "= " + toml_text(arr) + ": expected " + std::to_string(dim) +
+                            std::string(cohesive ? " non-negative" : " positive") +
+                            " prescribed stresses Sigma_a in Pa, one per axis (zero needs cohesion)");
+  } else {
+    c.pressure = rk.number("pressure", cohesive ? Range::non_negative() : Range::positive(),
+                           cohesive ? "prescribed pressure P in Pa ([GRC] P* = 0 allowed)"
+                                    : "prescribed pressure P in Pa (P = 0 needs cohesion)");
+    c.stress.assign(dim, c.pressure);
+  }
+  double sum = 0;
+  int controlled = 0;
+  for (int a = 0; a < dim; ++a)
+    if (!c.fixed[a]) sum += c.stress[a], ++controlled;
+  c.pressure = sum / controlled;
 }
 
 std::uint64_t read_seed(TableReader& rk, const SampleSpec& sample, int index) {
@@ -302,7 +366,7 @@ std::uint64_t read_seed(TableReader& rk, const SampleSpec& sample, int index) {
 }
 
 StageSpec read_stage(const toml::value& v, int index, const std::string& file,
-                     const SampleSpec& sample, bool after_compress) {
+                     const SampleSpec& sample, const MaterialSpec& material, bool after_compress) {
   std::string path = "stage[" + std::to_string(index) + "]";
   if (!v.is_table())
     throw InputError(file + ": " + path + " must be a table ([[stage]])");
@@ -323,52 +387,10 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
                                       "solid fraction of the random placement")};
   } else if (st.kind == "compress") {
     CompressStage c;
-    const int dim = sample.dimension;
-    const char* axis_names[] = {"x", "y", "z"};
-    c.fixed.assign(dim, false);
-    if (rk.has("fixed_axes")) {
-      const toml::value& arr = v_table(v, "fixed_axes");
-      bool ok = arr.is_array();
-      if (ok)
-        for (const auto& e : arr.as_array()) {
-          int axis = -1;
-          for (int a = 0; a < dim; ++a)
-            if (e.is_string() && e.as_string().str == axis_names[a]) axis = a;
-          if (axis < 0 || c.fixed[axis]) ok = false;
-          else c.fixed[axis] = true;
-        }
-      rk.accept("fixed_axes");
-      if (!ok)
-        rk.fail("fixed_axes", "= " + toml_text(arr) + ": expected an array of distinct axis names among " +
-                                  std::string(dim == 3 ? "\"x\", \"y\", \"z\"" : "\"x\", \"y\""));
-      int n_fixed = 0;
-      for (bool f : c.fixed) n_fixed += f;
-      if (n_fixed == dim) rk.fail("fixed_axes", "fixes every axis: nothing is stress-controlled");
-    }
-    if (rk.has("stress")) {
-      if (rk.has("pressure")) rk.fail("stress", "give either pressure (isotropic) or stress (per axis), not both");
-      const toml::value& arr = v_table(v, "stress");
-      rk.accept("stress");
-      bool ok = arr.is_array() && arr.as_array().size() == std::size_t(dim);
-      if (ok)
-        for (const auto& e : arr.as_array()) {
-          double x = e.is_floating() ? e.as_floating() : e.is_integer() ? double(e.as_integer()) : -1;
-          ok = ok && x > 0 && std::isfinite(x) && number_is_exact(e);
-          c.stress.push_back(x);
-        }
-      if (!ok)
-        rk.fail("stress", "= " + toml_text(arr) + ": expected " + std::to_string(dim) +
-                              " positive prescribed stresses Sigma_a in Pa, one per axis");
-    } else {
-      c.pressure = rk.number("pressure", Range::positive(), "prescribed pressure P in Pa");
-      c.stress.assign(dim, c.pressure);
-    }
-    double sum = 0;
-    int controlled = 0;
-    for (int a = 0; a < dim; ++a)
-      if (!c.fixed[a]) sum += c.stress[a], ++controlled;
-    c.pressure = sum / controlled;
+    read_stress_target(rk, v, sample, material.cohesion_force > 0, c);
     read_compress_controls(rk, c);
+    if (c.inertia_max && !(c.pressure > 0))
+      rk.fail("inertia_max", "needs P > 0 (I = eps_dot sqrt(m / (a P))); at P = 0 cap the rate with strain_rate_max");
     st.params = c;
   } else if (st.kind == "set") {
     SetStage s;
@@ -459,6 +481,21 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
     g.tolerance = read_tolerances(rk);
     g.seed = read_seed(rk, sample, index);
     st.params = g;
+  } else if (st.kind == "stiffen") {
+    if (material.normal_law != "linear")
+      rk.fail("kind", "= \"stiffen\" ramps the linear law's K_N: needs [material] normal_law = \"linear\"");
+    StiffenStage f;
+    f.normal_stiffness = rk.number("normal_stiffness", Range::positive(), "target normal stiffness K_N in N/m");
+    f.steps = rk.integer("steps", Range::positive(), "time steps of the ramp");
+    f.increments = rk.integer_or("increments", f.increments, Range::closed(1.0, double(f.steps)),
+                                 "equal geometric factors of the ramp (at most steps)");
+    f.scale_rolling = rk.boolean_or("scale_rolling_stiffness", true,
+                                    "the rolling stiffness K_r follows K_N");
+    read_stress_target(rk, v, sample, material.cohesion_force > 0, f.control);
+    read_cell_controls(rk, f.control);
+    if (f.control.inertia_max && !(f.control.pressure > 0))
+      rk.fail("inertia_max", "needs P > 0 (I = eps_dot sqrt(m / (a P))); at P = 0 cap the rate with strain_rate_max");
+    st.params = f;
   }
   rk.finish();
   return st;
@@ -470,7 +507,7 @@ const std::vector<std::string>& stage_kinds() {
   static const std::vector<std::string> kinds = {
       "lattice", "random", "read", "ed_gas",       "ls_compress", "expand",
       "compress", "pressure_steps", "fix_rattlers", "set",         "write",
-      "aggregate"};
+      "aggregate", "stiffen"};
   return kinds;
 }
 
@@ -513,12 +550,27 @@ Deck parse_deck(const std::string& text, const std::string& file_name) {
   int index = 0;
   bool after_compress = false;
   for (const auto& s : stages.as_array()) {
-    deck.stages.push_back(read_stage(s, index++, file_name, deck.sample, after_compress));
+    deck.stages.push_back(read_stage(s, index++, file_name, deck.sample, deck.material, after_compress));
     after_compress = after_compress || deck.stages.back().kind == "compress";
   }
   if (deck.stages.empty())
     throw InputError(file_name + ": no stages: add at least one [[stage]] table");
   return deck;
+}
+
+MaterialSpec material_after(const Deck& deck, int stage_index) {
+  MaterialSpec m = deck.material;
+  for (const auto& st : deck.stages) {
+    if (st.index > stage_index) break;
+    if (const auto* s = std::get_if<SetStage>(&st.params)) {
+      if (s->friction) m.friction = *s->friction;
+      if (s->damping) m.damping = *s->damping;
+    } else if (const auto* f = std::get_if<StiffenStage>(&st.params)) {
+      if (f->scale_rolling) m.rolling_stiffness *= f->normal_stiffness / m.normal_stiffness;
+      m.normal_stiffness = f->normal_stiffness;
+    }
+  }
+  return m;
 }
 
 std::string read_deck_text(const std::filesystem::path& path) {

@@ -71,6 +71,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
   const double v0 = g.velocity_ratio * v_star;
 
   MdSettings<dim> s;
+  s.max_overlap = ctx.deck->numerics.max_overlap;
   // The force scale of the contacts is F0 (P* << 1): time step from a contact loaded by ~5 F0.
   s.dt = ctx.deck->numerics.time_step_fraction *
          contact_duration(mat, sample, dim, f0 / (dim == 3 ? a * a : a));

@@ -77,6 +77,8 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
     for (const auto& r : *completed) st["completed"].push_back(nlohmann::json::parse(stage_report_json(r)));
   st["friction"] = exact(ctx.material.friction);
   st["damping"] = exact(ctx.material.damping);
+  st["normal_stiffness"] = exact(ctx.material.normal_stiffness);
+  st["rolling_stiffness"] = exact(ctx.material.rolling_stiffness);
   st["stress"] = nlohmann::json::array();
   for (double s : ctx.stress) st["stress"].push_back(exact(s));
   st["fixed"] = ctx.fixed;
@@ -110,6 +112,9 @@ RunState parse_run_state(const std::string& text, const std::string& file) {
     for (const auto& r : j.at("completed")) s.completed.push_back(stage_report_from_json(r.dump()));
     s.friction = exact_double(j.at("friction"));
     s.damping = exact_double(j.at("damping"));
+    // Written since the stiffen stage (checkpoints of older versions: the deck's values).
+    if (j.contains("normal_stiffness")) s.normal_stiffness = exact_double(j.at("normal_stiffness"));
+    if (j.contains("rolling_stiffness")) s.rolling_stiffness = exact_double(j.at("rolling_stiffness"));
     for (const auto& v : j.at("stress")) s.stress.push_back(exact_double(v));
     s.fixed = j.at("fixed").get<std::vector<bool>>();
     s.pressure = exact_double(j.at("pressure"));

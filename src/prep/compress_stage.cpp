@@ -3,6 +3,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
 
 #include "granpack/core/error.h"
 #include "granpack/dynamics/eta_estimate.h"
@@ -11,6 +14,7 @@
 #include "granpack/prep/md_engine.h"
 #include "granpack/prep/stages.h"
 #include "granpack/prep/state_metrics.h"
+#include "granpack/prep/stress_control.h"
 
 namespace granpack {
 
@@ -44,50 +48,44 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index
                                              << " (compress): there is no sample yet");
 
+  const double f0 = ctx.material.cohesion_force;
   MdSettings<dim> s;
-  s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, P);
+  s.max_overlap = ctx.deck->numerics.max_overlap;
+  // The time step: contacts loaded by 5 a^2 P, or by 5 F0 under P* = 0 ([GRC] relaxation).
+  const double load = P > 0 ? P : f0 / std::pow(a, dim - 1);
+  s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, load);
   s.skin = ctx.deck->numerics.skin * a;
   s.stress_control = true;
-  double total_mass = 0;
-  for (std::size_t i = 0; i < ctx.system.particles.n_owned(); ++i)
-    total_mass += ctx.system.particles.mass[i];
-  MPI_Allreduce(MPI_IN_PLACE, &total_mass, 1, MPI_DOUBLE, MPI_SUM, ctx.world);
-  s.cell.mass = c.cell_mass * total_mass;
-  // [GRC] eq. 3 drives the strain eps = -L/L0 with M = 0.3 sum m / L (L in units of a); in
-  // the form M' d2L/dt2 = (Omega/L_a)(sigma - Sigma) used here this is M' = M a / L0 for a
-  // square cell.
-  if (c.cell_mass_per_length) s.cell.mass *= a / (ctx.system.cell.length.sum() / dim);
-  for (int k = 0; k < dim; ++k) {
-    s.cell.target[k] = c.stress[k];
-    s.cell.fixed[k] = c.fixed[k];
-  }
-  // Inertia number I = eps_dot sqrt(m / (a P)) (eq. 23), m the mass of a grain of diameter a
-  // (in 2D, per unit thickness: I = eps_dot sqrt(m / P)).
-  const double inertia_time = std::sqrt(grain_mass / ((dim == 3 ? a : 1.0) * P));
-  if (c.inertia_max) s.cell.max_strain_rate = *c.inertia_max / inertia_time;
+  s.cell = cell_control_of(ctx, c);
+  // Inertia number I = eps_dot sqrt(m / (a P)) (eq. 23) of the strain rate reached; none at P = 0.
+  const double inertia_time = P > 0 ? std::sqrt(grain_mass / ((dim == 3 ? a : 1.0) * P)) : 0.0;
 
-  const double kappa = stiffness_number(ctx.material, sample, dim, P);
+  // kappa = K_N/P (or (E~/P)^(2/3)) is undefined at P = 0; [GRC]'s a K_N / F0 is logged.
+  const std::optional<double> kappa =
+      P > 0 ? std::optional<double>(stiffness_number(ctx.material, sample, dim, P)) : std::nullopt;
   {
     char buf[256];
     std::snprintf(buf, sizeof buf,
-                  "  P = %.6g Pa, kappa = %.6g, mu = %g, zeta = %g, I_max = %s, M = %g x grain "
-                  "mass%s, dt = %.4g s",
-                  P, kappa, ctx.material.friction, ctx.material.damping,
-                  c.inertia_max ? std::to_string(*c.inertia_max).c_str() : "none", c.cell_mass,
+                  "  P = %.6g Pa, kappa = %.6g, mu = %g, zeta = %g, I_max = %s, strain rate max = %s, "
+                  "M = %g x grain mass%s, dt = %.4g s",
+                  P, kappa.value_or(std::numeric_limits<double>::infinity()), ctx.material.friction, ctx.material.damping,
+                  c.inertia_max ? std::to_string(*c.inertia_max).c_str() : "none",
+                  std::isfinite(s.cell.max_strain_rate) ? (std::to_string(s.cell.max_strain_rate) + " 1/s").c_str()
+                                                        : "none",
+                  c.cell_mass,
                   c.cell_mass_per_length ? " x a/L0" : "", s.dt);
     ctx.log->info(buf);
     const MaterialSpec& mat = ctx.material;
     if (mat.cohesion_force > 0) {
       // [GRC] sec. II C: P* = P a^(dim-1) / F0 and kappa = a K_N / F0 (Hertz: (E a^2/F0)^(2/3)).
-      const double f0 = mat.cohesion_force;
       const double kappa_f0 = mat.normal_law == "linear"
                                   ? a * mat.normal_stiffness / f0
                                   : std::pow(mat.young_modulus * a * a / f0, 2.0 / 3.0);
       std::snprintf(buf, sizeof buf,
                     "  cohesion: F0 = %.6g N, D0/a = %.3g, P* = %.6g, kappa = a K_N/F0 = %.6g, "
-                    "V* = sqrt(F0 D0 / m) = %.4g m/s",
+                    "V* = sqrt(F0 D0 / m) = %.4g m/s, T0 = sqrt(m a / F0) = %.4g s",
                     f0, mat.cohesion_range / a, (dim == 3 ? a * a : a) * P / f0, kappa_f0,
-                    std::sqrt(f0 * mat.cohesion_range / grain_mass));
+                    std::sqrt(f0 * mat.cohesion_range / grain_mass), std::sqrt(grain_mass * a / f0));
       ctx.log->info(buf);
     }
     if (mat.rolling_stiffness > 0) {
@@ -198,7 +196,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   r.phi = ctx.solid_fraction();
   r.pressure = engine.observables().stress_elastic.trace() / dim;
   r.kappa = kappa;
-  r.inertia_max = inertia_reached;
+  if (P > 0) r.inertia_max = inertia_reached;
   r.z = sm.z;
   r.z_star = sm.z_star;
   r.x0 = sm.x0;

@@ -71,6 +71,7 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
   const int min_contacts = ctx.material.friction > 0 ? 2 : dim + 1;
 
   MdSettings<dim> s;
+  s.max_overlap = ctx.deck->numerics.max_overlap;
   s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, P);
   s.skin = ctx.deck->numerics.skin * a;
   s.stress_control = false;

@@ -206,9 +206,10 @@ template <int dim> void MdEngine<dim>::check_sanity() {
       std::ostringstream os;
       os << at << "the overlap of grains " << pair << " reached " << worst
          << " of the smaller radius (limit " << settings_.max_overlap
-         << "): the contacts are too soft for the pressure or the time step too large (likely "
-            "fix: a smaller [numerics] time_step_fraction, stiffer material or a cap "
-            "inertia_max on the compression)";
+         << ", [numerics] max_overlap): the contacts are too soft for the pressure or the time "
+            "step too large (likely fix: a smaller [numerics] time_step_fraction, stiffer "
+            "material or a cap inertia_max on the compression; soft contacts on purpose, as "
+            "[GRC]'s kappa = 1e2: raise max_overlap)";
       err.record(os.str());
     }
   }

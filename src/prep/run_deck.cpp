@@ -64,6 +64,8 @@ template <int dim> void restore(RunContext<dim>& ctx, const std::filesystem::pat
   adopt_configuration<dim>(ctx, std::move(c), chosen);
   ctx.material.friction = state.friction;
   ctx.material.damping = state.damping;
+  if (state.normal_stiffness) ctx.material.normal_stiffness = *state.normal_stiffness;
+  if (state.rolling_stiffness) ctx.material.rolling_stiffness = *state.rolling_stiffness;
   ctx.stress = state.stress;
   ctx.fixed = state.fixed;
   ctx.pressure = state.pressure;
@@ -117,6 +119,7 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
           else if constexpr (std::is_same_v<P, PressureStepsStage>) return run_pressure_steps(ctx, p);
           else if constexpr (std::is_same_v<P, FixRattlersStage>) return run_fix_rattlers(ctx, p);
           else if constexpr (std::is_same_v<P, AggregateStage>) return run_aggregate(ctx, p);
+          else if constexpr (std::is_same_v<P, StiffenStage>) return run_stiffen(ctx, p);
           else throw NotImplemented("stage kind '" + st.kind + "' is not implemented yet");
         },
         st.params);

@@ -14,11 +14,8 @@
 #     that depends on the clock, which changes the trajectory's bits.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-pid=
-stop_run() { [ -n "$pid" ] && kill -9 $(pgrep -P "$pid") "$pid" 2>/dev/null; wait "$pid" 2>/dev/null; pid=; }
-trap 'stop_run; rm -rf "$scratch"' EXIT
 . "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
+restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 deck=$scratch/fix.toml
 cat > "$deck" <<'TOML'
 [sample]

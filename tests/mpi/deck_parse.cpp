@@ -114,6 +114,53 @@ TEST(Deck, CohesionAndRollingResistanceKeys) {
   EXPECT_EQ(plain.material.rolling_stiffness, 0.0);
 }
 
+// [GRC] method 2: compress at P* = 0 needs cohesion, a strain-rate cap replaces the inertia
+// cap there, and `stiffen` (series B) ramps the linear law's K_N; material_after replays it.
+TEST(Deck, MethodTwoKeys) {
+  std::string cohesive = kGood;
+  cohesive.replace(cohesive.find("damping = 0.5"), 13,
+                   "damping = 0.5\ncohesion_force = 2e-3\ncohesion_range = 1e-7\nrolling_stiffness = 1e-4");
+  auto stage = [](std::string t, const std::string& from, const std::string& to) {
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  // P = 0: refused without cohesion, and with an inertia cap; the strain-rate cap is read.
+  EXPECT_NE(message_of(stage(kGood, "pressure = 100.0\ninertia_max = 1e-3", "pressure = 0.0"))
+                .find("pressure: = 0.0 is out of range"), std::string::npos);
+  EXPECT_NE(message_of(stage(cohesive, "pressure = 100.0", "pressure = 0.0")).find("inertia_max: needs P > 0"),
+            std::string::npos);
+  const Deck p0 = parse_deck(stage(cohesive, "pressure = 100.0\ninertia_max = 1e-3", "pressure = 0\nstrain_rate_max = 35.7"), "p0.toml");
+  const auto& c = std::get<CompressStage>(p0.stages[0].params);
+  EXPECT_EQ(c.pressure, 0.0);
+  EXPECT_EQ(c.strain_rate_max, 35.7);
+  EXPECT_FALSE(c.inertia_max);
+  EXPECT_NE(message_of(stage(kGood, "inertia_max = 1e-3", "strain_rate_max = -1")).find("strain_rate_max: = -1 is out of range"),
+            std::string::npos);
+
+  // stiffen: target, steps, increments <= steps, the stress target; replayed by material_after.
+  const std::string stiff = "[[stage]]\nkind = \"stiffen\"\nnormal_stiffness = 1e7\nsteps = 1000\nincrements = 10\npressure = 0\ncell_mass = 0.3\n\n[[stage]]\nkind = \"write\"";
+  const Deck d = parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", stiff), "s.toml");
+  const auto& f = std::get<StiffenStage>(d.stages[2].params);
+  EXPECT_EQ(f.normal_stiffness, 1e7);
+  EXPECT_EQ(f.steps, 1000);
+  EXPECT_EQ(f.increments, 10);
+  EXPECT_TRUE(f.scale_rolling);
+  EXPECT_EQ(f.control.pressure, 0.0);
+  EXPECT_EQ(f.control.cell_mass, 0.3);
+  EXPECT_EQ(material_after(d, 1).normal_stiffness, 1e5);
+  EXPECT_EQ(material_after(d, 1).friction, 0.15);  // the set stage
+  EXPECT_EQ(material_after(d, 2).normal_stiffness, 1e7);
+  EXPECT_DOUBLE_EQ(material_after(d, 2).rolling_stiffness, 1e-2);  // K_r follows K_N (x 100)
+  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(stiff, "increments = 10", "increments = 2000")))
+                .find("increments: = 2000 is out of range"), std::string::npos);
+  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(stiff, "steps = 1000\n", "")))
+                .find("steps"), std::string::npos);
+  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(stiff, "cell_mass = 0.3", "tolerance_force = 1e-4")))
+                .find("tolerance_force"), std::string::npos);  // not a stiffen key
+  EXPECT_NE(message_of(stage(kGood, "[[stage]]\nkind = \"write\"", stage(stiff, "pressure = 0", "pressure = 0.0")))
+                .find("pressure: = 0.0 is out of range"), std::string::npos);  // P = 0 needs cohesion
+}
+
 TEST(Deck, PerAxisStressAndFixedAxes) {
   std::string t = kGood;
   t.replace(t.find("pressure = 100.0"), 16, "stress = [100.0, 300]\nfixed_axes = [\"x\"]");

@@ -1,5 +1,15 @@
-# Shared by the bit-for-bit restart tests of tests/cli (sourced, not run): the comparison of
-# a restarted chain with its uninterrupted run, and the loop over 1 and 2 ranks.
+# Shared by the bit-for-bit restart tests of tests/cli (sourced, not run): a scratch directory
+# and the killing of a run in progress, the comparison of a restarted chain with its
+# uninterrupted run, and the loop over 1 and 2 ranks.
+
+# restart_scratch: makes $scratch (removed on exit), and stop_run, which kills the run whose
+# mpiexec pid is $pid (with its ranks, kill -9) and waits for it; the EXIT trap calls both.
+restart_scratch() {
+  scratch=$(mktemp -d)
+  pid=
+  trap 'stop_run; rm -rf "$scratch"' EXIT
+}
+stop_run() { [ -n "$pid" ] && kill -9 $(pgrep -P "$pid") "$pid" 2>/dev/null; wait "$pid" 2>/dev/null; pid=; }
 
 # same_run WHOLE OUT NP: OUT/final.h5 equals WHOLE/final.h5 bit for bit and the report.json
 # files agree.

@@ -31,6 +31,7 @@ template <int dim> struct ContactView {
 template <int dim> struct PackingView {
   MPI_Comm world = MPI_COMM_WORLD;
   Deck deck;                 ///< the deck stored in the file
+  MaterialSpec material;     ///< the material in force at the file's stage (set, stiffen)
   double friction = 0;       ///< mu in force at the file's stage
   double diameter = 0;       ///< a
   System<dim> system;

@@ -45,6 +45,8 @@ struct MaterialSpec {
 struct NumericsSpec {
   double time_step_fraction = 0.02;  ///< dt / (contact duration of the stiffest contact)
   double skin = 0.1;                 ///< Verlet skin, fraction of the largest diameter
+  /// Largest overlap h / min(R_i, R_j) before an MD stage stops with a diagnosis.
+  double max_overlap = 0.1;
   friend bool operator==(const NumericsSpec&, const NumericsSpec&) = default;
 };
 
@@ -72,6 +74,7 @@ struct CompressStage {
   std::vector<double> stress;           ///< prescribed Sigma_a per axis, Pa (dim entries)
   std::vector<bool> fixed;              ///< axes kept at constant length (dim entries)
   std::optional<double> inertia_max;    ///< cap on I = eps_dot sqrt(m/(aP)), eq. (23)
+  std::optional<double> strain_rate_max;  ///< cap on |dL/dt| / L, 1/s ([GRC] method 2: 0.05/T0)
   double cell_mass = 1.0;               ///< M / (sum of grain masses)
   /// [GRC] eq. 3 form: M = cell_mass x (sum of grain masses) x a / L0, L0 the mean cell
   /// length at the stage start (M = 0.3 sum m / L in the paper's units of a).
@@ -147,9 +150,20 @@ struct AggregateStage {
   friend bool operator==(const AggregateStage&, const AggregateStage&) = default;
 };
 
+/// [GRC] series B: the normal stiffness (and the rolling stiffness with it) ramped
+/// geometrically to a target under stress control; a compress stage then equilibrates.
+struct StiffenStage {
+  double normal_stiffness = 0;       ///< target K_N, N/m (linear law)
+  std::int64_t steps = 0;            ///< time steps of the whole ramp
+  std::int64_t increments = 100;     ///< equal factors of the geometric ramp
+  bool scale_rolling = true;         ///< K_r follows K_N ([GRC] table I: K_r = 1e-4 a^2 K_N)
+  CompressStage control;             ///< prescribed stress, fixed axes, cell mass, rate caps
+  friend bool operator==(const StiffenStage&, const StiffenStage&) = default;
+};
+
 using StageParams = std::variant<LatticeStage, RandomStage, CompressStage, SetStage, WriteStage,
                                  EdGasStage, LsCompressStage, ExpandStage, PressureStepsStage,
-                                 FixRattlersStage, ReadStage, AggregateStage>;
+                                 FixRattlersStage, ReadStage, AggregateStage, StiffenStage>;
 
 struct StageSpec {
   int index = 0;     ///< 0-based position in the deck
@@ -176,6 +190,10 @@ const std::vector<std::string>& stage_kinds();
 /// its table path and line, the value and what is allowed. Does no I/O: under MPI the caller
 /// reads the file on one rank and broadcasts its text, so every rank validates identically.
 Deck parse_deck(const std::string& text, const std::string& file_name);
+
+/// The material in force after stage `stage_index` has run: the deck's, changed by the
+/// `set` and `stiffen` stages up to it (analyses of a file written by that stage).
+MaterialSpec material_after(const Deck& deck, int stage_index);
 
 /// The text of a deck file; a missing or unreadable file is an InputError.
 std::string read_deck_text(const std::filesystem::path& path);

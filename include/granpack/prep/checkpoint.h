@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -89,6 +90,8 @@ struct RunState {
   std::vector<int> grid;   ///< its domain grid
   std::vector<StageReport> completed;
   double friction = 0, damping = 0;  ///< the material as `set` stages left it
+  /// K_N and K_r as `stiffen` stages left them (absent from older checkpoints).
+  std::optional<double> normal_stiffness, rolling_stiffness;
   std::vector<double> stress;
   std::vector<bool> fixed;
   double pressure = 0;

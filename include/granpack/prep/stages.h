@@ -24,6 +24,7 @@ template <int dim> StageReport run_expand(RunContext<dim>& ctx, const ExpandStag
 template <int dim> StageReport run_pressure_steps(RunContext<dim>& ctx, const PressureStepsStage& p);
 template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixRattlersStage& p);
 template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const AggregateStage& p);
+template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenStage& p);
 
 /// Makes a configuration read from a file the sample: grains, contacts and cell (rate kept),
 /// a domain decomposition (the given grid, else one chosen from the cell's shape) and the

@@ -1,0 +1,174 @@
+#!/usr/bin/env bash
+# [GRC] method 2 on 150 cohesive disks (jobs/decks/2d/method2_small.toml, 2 ranks):
+# aggregation of Maxwell-agitated grains in the fixed cell, relaxation at P* = 0, compression
+# to P* = 0.01 with the strain rate capped at 0.05/T0; then a second deck reads the result and
+# `stiffen`s it from kappa = 1e2 to 1e3 at P* = 0.01 and re-equilibrates. Checked from the
+# files, independently of the engine:
+# - every stage that seeks equilibrium reached it; the aggregate is one cluster (union-find
+#   over the file's contacts and distant pairs);
+# - P0.h5 and the stiffened final.h5: N^e = K_N h for every contact, with the NEW K_N after
+#   stiffen (the stage changed the law; `analyze` takes it from material_after), net static
+#   force and moment on every grain below the deck's tolerance (1e-3 F0, 1e-3 F0 a), static
+#   stress within 1e-3 F0/a of P;
+# - the aggregation keeps the fixed cell's Phi; the relaxation at P* = 0 changes it by less
+#   than 5 %; the strain rate of the P* = 0.01 compression stayed below its cap (the inertia
+#   number the stage reports, I = eps_dot sqrt(m/P), is at most 0.05/T0 sqrt(m/P));
+# - the stiffen deck killed (kill -9) after a checkpoint inside stiffen and restarted from it
+#   ends bit for bit as the uninterrupted run (the frame holds the ramp's increment and start
+#   stiffness, the checkpoint the stiffnesses in force);
+# - `granpack analyze` of P0.h5 reports the [GRC] coordination the file gives.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
+restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
+np=2
+m2=$scratch/m2
+t0=$(date +%s)
+mpiexec -n $np "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/2d/method2_small.toml" -o "$m2" -q \
+  < /dev/null > "$scratch/m2.txt" 2>&1 || { echo "FAIL: method 2 run"; tail -30 "$scratch/m2.txt"; exit 1; }
+echo "method 2 deck: $(( $(date +%s) - t0 )) s"
+grep -E "aggregated|equilibrated|interactions" "$m2/log.txt"
+
+deck=$scratch/stiffen.toml
+cat > "$deck" <<TOML
+[sample]
+dimension = 2
+n = 150
+diameter = 1.0e-3
+distribution = "uniform"
+min_diameter_ratio = 0.5
+seed = 2
+[material]
+density = 2500.0
+normal_law = "linear"
+normal_stiffness = 1.0e5
+tangential_stiffness_ratio = 1.0
+friction = 0.5
+damping = 0.8
+cohesion_force = 1.0
+cohesion_range = 1.0e-6
+[output]
+log_every = 1000000
+[[stage]]
+kind = "read"
+file = "$m2/final.h5"
+[[stage]]
+kind = "stiffen"
+normal_stiffness = 1.0e6
+steps = 400000
+increments = 40
+pressure = 10.0
+cell_mass = 0.3
+cell_mass_per_length = true
+[[stage]]
+name = "stiff"
+kind = "compress"
+pressure = 10.0
+cell_mass = 0.3
+cell_mass_per_length = true
+tolerance_force = 1e-3
+tolerance_moment = 1e-3
+tolerance_stress = 1e-3
+tolerance_kinetic = 1e-6
+TOML
+every=20000
+run() { local o=$1; shift; mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$o" -q \
+          --checkpoint-every-steps $every --checkpoint-every-seconds 0 "$@" < /dev/null; }
+inside() {
+  awk '/^stage /{ s = $2 } /inside the stage/ && s == 1 { c++ } END { print c + 0 }' "$out/log.txt" 2>/dev/null || echo 0
+}
+whole=$scratch/whole
+t0=$(date +%s)
+run "$whole" > "$scratch/whole.txt" 2>&1 || { echo "FAIL: stiffen run"; tail -30 "$scratch/whole.txt"; exit 1; }
+echo "stiffen deck: $(( $(date +%s) - t0 )) s"
+grep -E "increment 40|equilibrated" "$whole/log.txt"
+out=$scratch/chain
+mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$out" -q --checkpoint-every-steps $every \
+  --checkpoint-every-seconds 0 < /dev/null > "$scratch/chain.txt" 2>&1 &
+pid=$!
+for _ in $(seq 1 3000); do
+  [ "$(inside)" -gt 0 ] && break
+  kill -0 $pid 2>/dev/null || break
+  sleep 0.02
+done
+[ "$(inside)" -gt 0 ] || { echo "FAIL: no checkpoint inside stiffen"; tail "$scratch/chain.txt"; exit 1; }
+stop_run
+echo "killed inside stiffen; checkpoint at stage $("$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p')"
+run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1 \
+  || { echo "FAIL: restart"; tail -20 "$scratch/chain.txt"; exit 1; }
+grep -q "inside stage 1 'stiffen'" "$out/log.txt" \
+  || { echo "FAIL: the restart did not resume inside stiffen"; grep "restart from" "$out/log.txt"; exit 1; }
+same_run "$whole" "$out" "$np" || exit 1
+
+mpiexec -n $np "$GRANPACK_EXE" analyze "$m2/P0.h5" --json "$scratch/an.json" > "$scratch/an.txt" 2>&1 \
+  || { echo "FAIL: analyze P0.h5"; tail -20 "$scratch/an.txt"; exit 1; }
+
+/usr/bin/python3 - "$m2" "$whole" "$scratch/an.json" <<'PY'
+import json, os, sys
+import numpy as np
+sys.path.insert(0, os.path.join(os.environ["GRANPACK_SOURCE_DIR"], "tests", "support"))
+from packing_file import Packing
+m2, stiff, an_file = sys.argv[1], sys.argv[2], sys.argv[3]
+a, F0, D0, mu, phi_I, tol = 1e-3, 1.0, 1e-6, 0.5, 0.36, 1e-3
+m = 2500 * np.pi * a * a / 4
+fails = []
+
+def check_file(path, K_N, P, label):
+    p = Packing(path)
+    touch = ~p.distant
+    err = np.abs(p.Ne[touch] - K_N * p.h[touch]).max() / F0
+    if err > 1e-9:
+        fails.append(f"{label}: N^e != K_N h (K_N = {K_N:g}) by {err:.3g} F0")
+    Ns, net, mom, sigma = p.static_balance(F0, D0)
+    fmax = np.sqrt((net ** 2).sum(1)).max() / F0
+    gmax = np.abs(mom).max() / (F0 * a)
+    dp = np.abs(np.diag(sigma) - P).max() * a / F0
+    if fmax >= tol: fails.append(f"{label}: net force {fmax:.3g} F0")
+    if gmax >= tol: fails.append(f"{label}: net moment {gmax:.3g} F0 a")
+    if dp >= tol: fails.append(f"{label}: |sigma - P| {dp:.3g} F0/a")
+    clusters = p.clusters()
+    if clusters != 1: fails.append(f"{label}: {clusters} clusters")
+    print(f"{label}: F/F0 {fmax:.2e}, G/(F0 a) {gmax:.2e}, |sigma - P| a/F0 {dp:.2e}, "
+          f"N^e - K_N h {err:.1e} F0, {clusters} cluster")
+    return Ns, len(p.x)
+
+rep = json.load(open(f"{m2}/report.json"))
+st = {s["name"]: s for s in rep["stages"]}
+for name in ("aggregate", "P0", "P0.01"):
+    if not st[name].get("equilibrated"):
+        fails.append(f"stage {name} did not equilibrate")
+if st["aggregate"]["values"]["clusters"] != 1:
+    fails.append(f"aggregate: {st['aggregate']['values']['clusters']} clusters")
+Ns, n = check_file(f"{m2}/P0.h5", 1e5, 0.0, "P0.h5")
+check_file(f"{m2}/final.h5", 1e5, 10.0, "P0.01")
+srep = json.load(open(f"{stiff}/report.json"))
+ss = {s["name"]: s for s in srep["stages"]}
+sv = ss["stiffen"]["values"]
+if sv["normal_stiffness"] != 1e6 or sv["normal_stiffness_start"] != 1e5:
+    fails.append(f"stiffen: K_N {sv['normal_stiffness_start']} -> {sv['normal_stiffness']}")
+if abs(sv["kappa"] - 1e3) > 1e-9 or abs(sv["kappa_start"] - 1e2) > 1e-9:
+    fails.append(f"stiffen: kappa {sv['kappa_start']} -> {sv['kappa']}")
+if not ss["stiff"].get("equilibrated"):
+    fails.append("the stiffened packing did not equilibrate")
+check_file(f"{stiff}/final.h5", 1e6, 10.0, "stiffened")
+phi = {k: st[k]["phi"] for k in ("aggregate", "P0", "P0.01")}
+if abs(phi["aggregate"] / phi_I - 1) > 1e-12:
+    fails.append(f"aggregate changed the fixed cell's phi: {phi['aggregate']}")
+if not abs(phi["P0"] / phi_I - 1) < 0.05:
+    fails.append(f"relaxation at P* = 0: phi {phi_I} -> {phi['P0']}")
+I_cap = 35.68 * np.sqrt(m / 10.0)
+if not st["P0.01"]["inertia_max"] <= I_cap * (1 + 1e-9):
+    fails.append(f"P0.01: inertia number {st['P0.01']['inertia_max']} above the strain-rate cap's {I_cap}")
+zi = 2 * len(Ns) / n
+an = json.load(open(an_file))["interactions"]
+if abs(st["P0"]["values"]["z_interactions"] - zi) > 1e-12:
+    fails.append(f"P0 report z {st['P0']['values']['z_interactions']}, the file gives {zi}")
+for k, v in (("z_plus", 2 * (Ns > 1e-4 * F0).sum() / n), ("z_minus", 2 * (Ns < -1e-4 * F0).sum() / n)):  # analyze: 1e-4 F1
+    if abs(an[k] - v) > 1e-12: fails.append(f"analyze {k} {an[k]}, the file gives {v}")
+print(f"phi: I {phi_I}, aggregate {phi['aggregate']:.5f}, P*=0 {phi['P0']:.5f}, P*=0.01 "
+      f"{phi['P0.01']:.5f}, stiffened {ss['stiff']['phi']:.5f}; z(P0) {zi:.4f}; "
+      f"I {st['P0.01']['inertia_max']:.4g} <= {I_cap:.4g}")
+for msg in fails:
+    print("FAIL:", msg)
+sys.exit(1 if fails else 0)
+PY
