@@ -478,6 +478,8 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
     g.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
     g.cluster_every = rk.integer_or("cluster_every", g.cluster_every, Range::positive(),
                                     "steps between cluster counts");
+    g.quench_interval = rk.integer_or("quench_interval", 0, Range::non_negative(),
+                                      "steps between velocity quenches once there is one cluster (0: never)");
     g.tolerance = read_tolerances(rk);
     g.seed = read_seed(rk, sample, index);
     st.params = g;

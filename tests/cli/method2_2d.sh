@@ -16,7 +16,10 @@
 # - the stiffen deck killed (kill -9) after a checkpoint inside stiffen and restarted from it
 #   ends bit for bit as the uninterrupted run (the frame holds the ramp's increment and start
 #   stiffness, the checkpoint the stiffnesses in force);
-# - `granpack analyze` of P0.h5 reports the [GRC] coordination the file gives.
+# - `granpack analyze` of P0.h5 reports the [GRC] coordination the file gives;
+# - the aggregation with velocity quenches (quench_interval) under [GRC]'s own criteria: it
+#   quenched, ended in equilibrium with one cluster, and the file's velocities are not the
+#   zeroed ones of a quench (kinetic energy > 0 and < 5e-8 F0 a per grain, net force < 1e-4 F0).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
@@ -100,20 +103,32 @@ grep -q "inside stage 1 'stiffen'" "$out/log.txt" \
   || { echo "FAIL: the restart did not resume inside stiffen"; grep "restart from" "$out/log.txt"; exit 1; }
 same_run "$whole" "$out" "$np" || exit 1
 
+# The aggregation alone with quenches and [GRC]'s criteria (1e-4 F0, 1e-4 F0 a, 5e-8 F0 a).
+q=$scratch/quench
+awk '/^\[\[stage\]\]/ { k++ } k < 3' "$GRANPACK_SOURCE_DIR/jobs/decks/2d/method2_small.toml" |   # random, aggregate
+  sed -e 's/^tolerance_force = 1e-3/tolerance_force = 1e-4/' -e 's/^tolerance_moment = 1e-3/tolerance_moment = 1e-4/' \
+      -e 's/^tolerance_kinetic = 1e-6/tolerance_kinetic = 5e-8/' \
+      -e 's/^cluster_every = 5000/cluster_every = 5000\nquench_interval = 20000/' > "$scratch/quench.toml"
+printf '[[stage]]\nkind = "write"\nfile = "aggregate.h5"\n' >> "$scratch/quench.toml"
+t0=$(date +%s)
+mpiexec -n $np "$GRANPACK_EXE" run "$scratch/quench.toml" -o "$q" -q < /dev/null > "$scratch/q.txt" 2>&1 \
+  || { echo "FAIL: quench run"; tail -20 "$scratch/q.txt"; exit 1; }
+echo "aggregation with quenches: $(( $(date +%s) - t0 )) s"
+
 mpiexec -n $np "$GRANPACK_EXE" analyze "$m2/P0.h5" --json "$scratch/an.json" > "$scratch/an.txt" 2>&1 \
   || { echo "FAIL: analyze P0.h5"; tail -20 "$scratch/an.txt"; exit 1; }
 
-/usr/bin/python3 - "$m2" "$whole" "$scratch/an.json" <<'PY'
+/usr/bin/python3 - "$m2" "$whole" "$scratch/an.json" "$q" <<'PY'
 import json, os, sys
 import numpy as np
 sys.path.insert(0, os.path.join(os.environ["GRANPACK_SOURCE_DIR"], "tests", "support"))
 from packing_file import Packing
-m2, stiff, an_file = sys.argv[1], sys.argv[2], sys.argv[3]
+m2, stiff, an_file, quench = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
 a, F0, D0, mu, phi_I, tol = 1e-3, 1.0, 1e-6, 0.5, 0.36, 1e-3
 m = 2500 * np.pi * a * a / 4
 fails = []
 
-def check_file(path, K_N, P, label):
+def check_file(path, K_N, P, label, tol=tol):
     p = Packing(path)
     touch = ~p.distant
     err = np.abs(p.Ne[touch] - K_N * p.h[touch]).max() / F0
@@ -122,7 +137,7 @@ def check_file(path, K_N, P, label):
     Ns, net, mom, sigma = p.static_balance(F0, D0)
     fmax = np.sqrt((net ** 2).sum(1)).max() / F0
     gmax = np.abs(mom).max() / (F0 * a)
-    dp = np.abs(np.diag(sigma) - P).max() * a / F0
+    dp = np.abs(np.diag(sigma) - P).max() * a / F0 if P is not None else 0.0  # None: fixed cell
     if fmax >= tol: fails.append(f"{label}: net force {fmax:.3g} F0")
     if gmax >= tol: fails.append(f"{label}: net moment {gmax:.3g} F0 a")
     if dp >= tol: fails.append(f"{label}: |sigma - P| {dp:.3g} F0/a")
@@ -168,6 +183,22 @@ for k, v in (("z_plus", 2 * (Ns > 1e-4 * F0).sum() / n), ("z_minus", 2 * (Ns < -
 print(f"phi: I {phi_I}, aggregate {phi['aggregate']:.5f}, P*=0 {phi['P0']:.5f}, P*=0.01 "
       f"{phi['P0.01']:.5f}, stiffened {ss['stiff']['phi']:.5f}; z(P0) {zi:.4f}; "
       f"I {st['P0.01']['inertia_max']:.4g} <= {I_cap:.4g}")
+qr = {s["name"]: s for s in json.load(open(f"{quench}/report.json"))["stages"]}["aggregate"]
+if not qr.get("equilibrated") or qr["values"]["quenches"] < 1 or qr["values"]["clusters"] != 1:
+    fails.append(f"quenched aggregation: equilibrated {qr.get('equilibrated')}, values {qr['values']}")
+check_file(f"{quench}/aggregate.h5", 1e5, None, "quenched aggregate", 1e-4)
+import h5py
+with h5py.File(f"{quench}/aggregate.h5", "r") as f:
+    v = f["particles/velocity"][:]
+    w = f["particles/angular_velocity"][:]
+    R = f["particles/radius"][:]
+mass = 2500 * np.pi * R ** 2
+inertia = 0.5 * mass * R ** 2
+ek = 0.5 * (mass * (v ** 2).sum(1) + inertia * (w ** 2).sum(1)).mean() / (F0 * a)
+if not 0 < ek < 5e-8:
+    fails.append(f"quenched aggregate: kinetic energy per grain {ek:.3g} F0 a (expected in (0, 5e-8))")
+print(f"quenched aggregate: {int(qr['values']['quenches'])} quenches, {qr['steps']} steps, "
+      f"z {qr['values']['z_interactions']:.4f}, Ek {ek:.2e} F0 a per grain")
 for msg in fails:
     print("FAIL:", msg)
 sys.exit(1 if fails else 0)

@@ -159,6 +159,14 @@ TEST(Deck, MethodTwoKeys) {
                 .find("tolerance_force"), std::string::npos);  // not a stiffen key
   EXPECT_NE(message_of(stage(kGood, "[[stage]]\nkind = \"write\"", stage(stiff, "pressure = 0", "pressure = 0.0")))
                 .find("pressure: = 0.0 is out of range"), std::string::npos);  // P = 0 needs cohesion
+
+  // aggregate: quench_interval (0 by default) is read and must not be negative.
+  const std::string agg = "[[stage]]\nkind = \"aggregate\"\nvelocity_ratio = 9.48\nquench_interval = 20000\n\n[[stage]]\nkind = \"write\"";
+  const Deck q = parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", agg), "q.toml");
+  EXPECT_EQ(std::get<AggregateStage>(q.stages[2].params).quench_interval, 20000);
+  EXPECT_EQ(std::get<AggregateStage>(parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(agg, "quench_interval = 20000\n", "")), "q0.toml").stages[2].params).quench_interval, 0);
+  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(agg, "20000", "-5"))).find("quench_interval: = -5 is out of range"),
+            std::string::npos);
 }
 
 TEST(Deck, PerAxisStressAndFixedAxes) {

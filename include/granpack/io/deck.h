@@ -146,6 +146,9 @@ struct AggregateStage {
   std::uint64_t seed = 0;
   std::int64_t max_steps = 0;        ///< 0: no limit
   std::int64_t cluster_every = 10000;  ///< steps between cluster counts (progress)
+  /// Once all grains form one cluster, steps between velocity quenches (0: never): drains
+  /// the slow undamped motions of the floppy aggregate (a deviation from [GRC], docs/deck.md).
+  std::int64_t quench_interval = 0;
   EquilibriumTolerances tolerance;   ///< force, moment, kinetic (the cell is fixed)
   friend bool operator==(const AggregateStage&, const AggregateStage&) = default;
 };
