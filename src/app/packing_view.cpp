@@ -101,7 +101,11 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   MPI_Allreduce(MPI_IN_PLACE, virial.data(), dim * dim, MPI_DOUBLE, MPI_SUM, world);
   v.stress = virial / sys.cell.volume();
   v.pressure = v.stress.trace() / dim;
-  v.force_threshold = threshold * (dim == 3 ? v.diameter * v.diameter : v.diameter) * v.pressure;
+  // [AR]'s scale a^2 P; with cohesion [GRC]'s F1 = max(F0, a^2 P) (II D), as the engine's
+  // criteria: at P* = 0 the pressure is ~0 or negative, and a threshold from it would count
+  // distant pairs (N^e = 0) as force-carrying contacts.
+  const double pressure_force = (dim == 3 ? v.diameter * v.diameter : v.diameter) * v.pressure;
+  v.force_threshold = threshold * (v.cohesion_force > 0 ? std::max(v.cohesion_force, pressure_force) : pressure_force);
 
   for (const auto& c : v.contacts)
     if (c.normal_force > v.force_threshold) v.carrying.push_back({c.i, c.j, c.normal_force});

@@ -41,7 +41,7 @@ template <int dim> struct PackingView {
   double phi = 0, pressure = 0;  ///< solid fraction; static pressure tr(sigma)/dim (N^e + N^a, T)
   double cohesion_force = 0, cohesion_range = 0;  ///< F0, D0 of the file's deck (0: none)
   Tensor<dim> stress = Tensor<dim>::Zero();
-  double force_threshold = 0;    ///< N above which a contact carries force
+  double force_threshold = 0;    ///< N above which N^e carries force: threshold x a^2 P, x F1 with cohesion
   std::vector<ContactView<dim>> contacts;
   std::vector<CarryingContact> carrying;  ///< N > threshold
   Backbone backbone;             ///< rattler flags and counts per local grain (ghosts copied)
