@@ -18,6 +18,7 @@
 #include "granpack/prep/md_engine.h"
 #include "granpack/prep/stages.h"
 #include "granpack/prep/state_metrics.h"
+#include "granpack/prep/stress_control.h"
 
 namespace granpack {
 
@@ -64,18 +65,15 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
     throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) +
                      "] (aggregate) needs cohesion: set [material] cohesion_force and cohesion_range");
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index << " (aggregate): there is no sample yet");
-  const double grain_mass = dim == 3 ? HomogeneousGrain<3>::mass(mat.density, a)
-                                     : HomogeneousGrain<2>::mass(mat.density, a);
+  const double grain_mass = reference_grain_mass(ctx);
   const double f0 = mat.cohesion_force;
   const double v_star = std::sqrt(f0 * mat.cohesion_range / grain_mass);
   const double v0 = g.velocity_ratio * v_star;
 
-  MdSettings<dim> s;
-  s.max_overlap = ctx.deck->numerics.max_overlap;
+  MdSettings<dim> s = deck_md_settings(ctx);
   // The force scale of the contacts is F0 (P* << 1): time step from a contact loaded by ~5 F0.
   s.dt = ctx.deck->numerics.time_step_fraction *
          contact_duration(mat, sample, dim, f0 / (dim == 3 ? a * a : a));
-  s.skin = ctx.deck->numerics.skin * a;
   s.stress_control = false;
   for (int k = 0; k < dim; ++k) s.cell.fixed[k] = true;  // no stress criterion either
 

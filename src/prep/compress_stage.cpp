@@ -43,18 +43,15 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   const auto t0 = clock::now();
   const auto& sample = ctx.deck->sample;
   const double a = sample.diameter, P = c.pressure;
-  const double grain_mass = dim == 3 ? HomogeneousGrain<3>::mass(ctx.material.density, a)
-                                     : HomogeneousGrain<2>::mass(ctx.material.density, a);
+  const double grain_mass = reference_grain_mass(ctx);
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index
                                              << " (compress): there is no sample yet");
 
   const double f0 = ctx.material.cohesion_force;
-  MdSettings<dim> s;
-  s.max_overlap = ctx.deck->numerics.max_overlap;
+  MdSettings<dim> s = deck_md_settings(ctx);
   // The time step: contacts loaded by 5 a^2 P, or by 5 F0 under P* = 0 ([GRC] relaxation).
   const double load = P > 0 ? P : f0 / std::pow(a, dim - 1);
   s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, load);
-  s.skin = ctx.deck->numerics.skin * a;
   s.stress_control = true;
   s.cell = cell_control_of(ctx, c);
   // Inertia number I = eps_dot sqrt(m / (a P)) (eq. 23) of the strain rate reached; none at P = 0.

@@ -70,10 +70,8 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
   const double push = f.force * force_scale;
   const int min_contacts = ctx.material.friction > 0 ? 2 : dim + 1;
 
-  MdSettings<dim> s;
-  s.max_overlap = ctx.deck->numerics.max_overlap;
+  MdSettings<dim> s = deck_md_settings(ctx);
   s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, P);
-  s.skin = ctx.deck->numerics.skin * a;
   s.stress_control = false;
 
   // Restart inside this stage: the rattlers found when it began and the loop's counters.

@@ -63,9 +63,7 @@ template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenSt
                           {"kr_start", exact(kr_start)},    {"increment", increment},
                           {"cell_mass", exact(cell_mass)}};
   });
-  MdSettings<dim> s;
-  s.max_overlap = ctx.deck->numerics.max_overlap;
-  s.skin = ctx.deck->numerics.skin * a;
+  MdSettings<dim> s = deck_md_settings(ctx);
   s.stress_control = true;
   s.cell = cell_control_of(ctx, g.control);
   // The cell mass is fixed at the stage start (L0 then); a restart restores it bit for bit.

@@ -37,6 +37,15 @@ template <int dim> struct MdSettings {
   std::function<Vec<dim>(GlobalId)> body_force;
 };
 
+/// The settings the deck's [numerics] fix for every MD stage: the Verlet skin and the overlap
+/// limit of the blow-up check (the stage sets the time step and the cell control).
+template <int dim> MdSettings<dim> deck_md_settings(const RunContext<dim>& ctx) {
+  MdSettings<dim> s;
+  s.skin = ctx.deck->numerics.skin * ctx.deck->sample.diameter;
+  s.max_overlap = ctx.deck->numerics.max_overlap;
+  return s;
+}
+
 /// Global observables after a step (identical on every rank).
 template <int dim> struct MdObservables {
   Tensor<dim> stress = Tensor<dim>::Zero();          ///< eq. (8): contacts + kinetic, Pa
