@@ -2,6 +2,8 @@
 
 #include <Eigen/Geometry>
 
+#include "granpack/core/error.h"
+
 namespace granpack {
 
 namespace {
@@ -68,22 +70,45 @@ DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const Rigidit
   return d;
 }
 
+namespace {
+/// Rolling rows exist in 2D only: in 3D the rolling moment turns with the contact, a
+/// geometric term geometric_block does not have.
+template <int dim> void check_rolling_layout(const RigidityLayout<dim>& l) {
+  GRANPACK_CHECK(!l.rolling || (dim == 2 && l.rotations),
+                 "rigidity: rolling-resistance rows are implemented in 2D with friction only");
+}
+}  // namespace
+
 template <int dim> DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  check_rolling_layout(l);
   const DynMatrix d = relative_displacement_map(c, l);
-  if (l.rotations) return d;
-  return c.geometry.normal.transpose() * d;
+  if (!l.rotations || c.distant) return c.geometry.normal.transpose() * d;
+  if (!l.rolling) return d;
+  const Offsets<dim> o(l);
+  DynMatrix rows = DynMatrix::Zero(dim + 1, l.local_size());
+  rows.topRows(dim) = d;
+  rows(dim, o.ri) = 1.0;  // ρ_i - ρ_j = ell (θ_i - θ_j): the rotation of i relative to j
+  rows(dim, o.rj) = -1.0;
+  return rows;
 }
 
 template <int dim> DynVector contact_force_vector(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
-  if (!l.rotations) return DynVector::Constant(1, c.normal_force);
-  return c.normal_force * c.geometry.normal + c.tangential_force;
+  if (!l.rotations || c.distant) return DynVector::Constant(1, c.normal_force);
+  DynVector f = DynVector::Zero(l.rows_per_contact());
+  f.head(dim) = c.normal_force * c.geometry.normal + c.tangential_force;
+  if (l.rolling) f[dim] = c.rolling_moment[0] / l.ell;
+  return f;
 }
 
 template <int dim> DynMatrix contact_stiffness(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
-  if (!l.rotations) return DynMatrix::Constant(1, 1, c.stiffness.k_n);
+  if (!l.rotations || c.distant) return DynMatrix::Constant(1, 1, c.stiffness.k_n);
   const Vec<dim>& n = c.geometry.normal;
   const Tensor<dim> nn = n * n.transpose();
-  return c.stiffness.k_n * nn + c.stiffness.k_t * (Tensor<dim>::Identity() - nn);
+  DynMatrix k = DynMatrix::Zero(l.rows_per_contact(), l.rows_per_contact());
+  k.topLeftCorner(dim, dim) = c.stiffness.k_n * nn + c.stiffness.k_t * (Tensor<dim>::Identity() - nn);
+  // Γ^r = -K_r δθ with δθ = θ_j - θ_i: d(Γ^r/ell)/d(ρ_i - ρ_j) = K_r / ell².
+  if (l.rolling) k(dim, dim) = c.stiffness.k_r / (l.ell * l.ell);
+  return k;
 }
 
 template <int dim> DynMatrix constitutive_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
@@ -101,7 +126,7 @@ template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, cons
   const int m = l.local_size();
   const Vec<dim>& n = g.normal;
   const double r = g.distance, nf = c.normal_force;
-  const Vec<dim> t = l.rotations ? c.tangential_force : Vec<dim>::Zero();
+  const Vec<dim> t = l.rotations && !c.distant ? c.tangential_force : Vec<dim>::Zero();
   const Vec<dim> force = nf * n + t;
   const Tensor<dim> proj = Tensor<dim>::Identity() - n * n.transpose();
   const DynMatrix w = centre_motion_map(c, l);  // w = u_j - u_i

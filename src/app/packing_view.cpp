@@ -6,6 +6,7 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "granpack/comm/clusters.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
@@ -87,7 +88,7 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
                                  (1.0 - std::max(0.0, r.norm() - p.radius[i] - p.radius[j]) /
                                             v.cohesion_range)
                            : -v.cohesion_force;
-    v.contacts.push_back({i, j, r, st.normal_force, st.tangential_force, attraction, distant});
+    v.contacts.push_back({i, j, r, st.normal_force, st.tangential_force, attraction, distant, st.rolling});
   }
   GRANPACK_CHECK(global_sum(world, lost) == 0,
                  file.string() << ": " << global_sum(world, lost)
@@ -116,6 +117,26 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   return v;
 }
 
+template <int dim> void select_interaction_network(PackingView<dim>& v) {
+  const auto& p = v.particles();
+  std::vector<std::pair<GlobalId, GlobalId>> pairs;
+  for (const auto& c : v.contacts) pairs.emplace_back(p.id[c.i], p.id[c.j]);
+  const ClusterSplit split = split_clusters(pairs, v.world);
+  v.detached_clusters = split.other_clusters;
+  v.detached_grains = split.other_grains;
+  auto in_largest = [&](std::size_t i) { return std::binary_search(split.largest.begin(), split.largest.end(), p.id[i]); };
+  // find_backbone with one contact required: every grain of the largest cluster stays, the rest
+  // (no pair left) are flagged.
+  v.carrying.clear();
+  for (const auto& c : v.contacts)
+    if (in_largest(c.i)) v.carrying.push_back({c.i, c.j, c.normal_force});
+  v.backbone = find_backbone(v.particles(), v.halo, *v.decomposition, v.carrying, 1);
+  v.halo.forward_values(v.backbone.counts, *v.decomposition);
+  v.interaction_network = true;
+}
+
+template void select_interaction_network<2>(PackingView<2>&);
+template void select_interaction_network<3>(PackingView<3>&);
 template PackingView<2> load_packing<2>(MPI_Comm, const std::filesystem::path&, const FileMeta&, double, double);
 template PackingView<3> load_packing<3>(MPI_Comm, const std::filesystem::path&, const FileMeta&, double, double);
 

@@ -90,41 +90,61 @@ template <int dim> nlohmann::json moduli_json(const Moduli<dim>& m, bool valid) 
 template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const FileMeta& meta) {
   const auto start = std::chrono::steady_clock::now();
   ensure_petsc_initialized();
-  const PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, 1.5);
+  PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, 1.5);
   const MaterialSpec& material = v.material;
   const ContactLaw<dim> law = contact_law_of<dim>(material);
-  // G and K of [GRC] appendix A (rotation rows of rolling resistance, distant attractions
-  // with their negative stiffness) are not assembled yet: refuse rather than ignore them.
-  if (law.cohesion || law.rolling)
-    throw NotImplemented(opt.file.string() + ": the stiffness of packings with cohesion or rolling "
-                         "resistance ([GRC]) is not implemented yet");
+  const bool cohesive = law.cohesion.has_value();
+  // [GRC] App. A is a 2D construction; in 3D the rolling moment turns with the contact and
+  // the divalent-grain modes change with distant pairs: refuse rather than get them wrong.
+  if (dim == 3 && (law.cohesion || law.rolling))
+    throw NotImplemented(opt.file.string() + ": the stiffness of 3D packings with cohesion or rolling "
+                         "resistance is not implemented (2D only, [GRC] App. A)");
+  // With cohesion the whole interaction network is analysed ([GRC] sec. III): a contact at
+  // h = h0 carries no force but has the stiffness K_N.
+  if (cohesive) select_interaction_network(v);
 
   if (v.backbone.metrics.backbone_contacts == 0)  // known on every rank (a global count)
-    throw InputError(opt.file.string() + ": no force-carrying contact (N > " + std::to_string(opt.threshold) +
-                     " a^2 P): there is no backbone to analyse");
+    throw InputError(opt.file.string() + (cohesive ? std::string(": no interaction between grains")
+                                                   : ": no force-carrying contact (N > " + std::to_string(opt.threshold) +
+                                                         " a^2 P)") +
+                     ": there is no backbone to analyse");
   StiffnessSystem<dim> s = assemble_stiffness(v, law);
   const int g = s.grain_dofs();
   const double volume = v.system.cell.volume();
   std::string stress_source;
   const Vec<dim> sigma = prescribed_stress(v, meta.stage_index, stress_source);
-  const VirtualWork vw = check_virtual_work(s, sigma, volume);
+  // With cohesion the forces are of order F0 whatever the pressure (0 at P* = 0): the
+  // residual is relative to the contact forces then.
+  const VirtualWork vw = check_virtual_work(s, sigma, volume, cohesive);
 
   const KnownMechanisms km = remove_known_mechanisms(s);
-  const DirectSolver chol = factorize(s.k1.uu, true, opt.null_pivot_threshold);
-  double eigen_seconds = 0;
-  const std::vector<double> eig = smallest_eigenvalues(s.k1.uu, chol, opt.eigenvalues, s.mean_kn, &eigen_seconds);
-  const Moduli<dim> m1 = condense<dim>(s.k1, [&](::Vec b, ::Vec x) { chol.solve(b, x); }, v.system.cell.length,
-                                       volume, Vec<dim>::Zero());
-  // Strain mechanisms: the null space of the (symmetric) Schur complement of K(1).
-  const Eigen::SelfAdjointEigenSolver<Tensor<dim>> schur_eig(0.5 * (m1.schur + m1.schur.transpose()));
+  // Mechanisms: the null space of G, that of mechanism_matrix() (K(1), or ᵀG|𝒦|G with
+  // distant pairs), whose factorisation counts the null pivots.
+  BorderedMatrix<dim>& mech = s.mechanism_matrix();
+  const DirectSolver chol = factorize(mech.uu, true, opt.null_pivot_threshold);
+  const GrainSolve mech_solve = [&](::Vec b, ::Vec x) { chol.solve(b, x); };
+  const Moduli<dim> mm = condense<dim>(mech, mech_solve, v.system.cell.length, volume, Vec<dim>::Zero());
+  // Strain mechanisms: the null space of the (symmetric) Schur complement.
+  const Eigen::SelfAdjointEigenSolver<Tensor<dim>> schur_eig(0.5 * (mm.schur + mm.schur.transpose()));
   int strain_mechanisms = 0;
   for (int a = 0; a < dim; ++a) strain_mechanisms += schur_eig.eigenvalues()[a] < 1e-9 * s.mean_kn;
-  const bool positive_definite = chol.null_pivots == 0 && chol.negative_pivots == 0 && strain_mechanisms == 0 &&
-                                 !eig.empty() && eig.front() > 0;
+  const bool rigid = chol.null_pivots == 0 && chol.negative_pivots == 0 && strain_mechanisms == 0;
+  // K(1) itself: the same factors without distant pairs, its own LDLᵀ (inertia) with them.
+  std::optional<DirectSolver> own_k1;
+  if (s.has_gram) own_k1 = factorize(s.k1.uu, true, opt.null_pivot_threshold);
+  const DirectSolver& k1f = own_k1 ? *own_k1 : chol;
+  double eigen_seconds = 0;
+  const std::vector<double> eig = smallest_eigenvalues(s.k1.uu, k1f, opt.eigenvalues, s.mean_kn, &eigen_seconds);
+  const Moduli<dim> m1 = !own_k1 ? mm
+                                 : condense<dim>(s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); },
+                                                 v.system.cell.length, volume, Vec<dim>::Zero());
+  const Eigen::SelfAdjointEigenSolver<Tensor<dim>> k1_schur_eig(0.5 * (m1.schur + m1.schur.transpose()));
+  const bool positive_definite = rigid && k1f.null_pivots == 0 && k1f.negative_pivots == 0 &&
+                                 k1_schur_eig.eigenvalues()[0] > 1e-9 * s.mean_kn && !eig.empty() && eig.front() > 0;
   // Unexpected mechanisms are named; the response of such a backbone is not computed.
   std::vector<std::vector<GlobalId>> floppy;
   if (chol.null_pivots > 0)
-    floppy = floppy_modes(s.k1.uu, s.numbering, g, s.mean_kn, int(chol.null_pivots) + 4, 1e-8, 1e-7);
+    floppy = floppy_modes(mech.uu, s.numbering, g, s.mean_kn, int(chol.null_pivots) + 4, 1e-8, 1e-7);
 
   // Without friction K = K(1) + K(2) is symmetric (central forces): its inertia says whether
   // the prestress (K(2) is negative there, [AR] App. B) leaves the backbone stable.
@@ -134,7 +154,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   if (positive_definite) {
     if (!s.layout.rotations) ldl_k = factorize(s.k.uu, true, opt.null_pivot_threshold);
     // K = K(1) + K(2): GMRES preconditioned by the K(1) factors (no second factorisation).
-    PreconditionedSolver gmres = krylov_with_factors(s.k.uu, chol, 1e-13);
+    PreconditionedSolver gmres = krylov_with_factors(s.k.uu, k1f, 1e-13);
     m = condense<dim>(s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, v.system.cell.length, volume,
                       Vec<dim>(v.stress.diagonal()));
     gmres_iterations = gmres.iterations;
@@ -145,7 +165,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const std::int64_t other = chol.null_pivots > 0 ? std::int64_t(floppy.size()) : 0;
   const std::int64_t k = dim + std::int64_t(km.divalent.size()) + other + strain_mechanisms;
   const std::int64_t nf = s.dof();
-  const std::int64_t h = s.layout.rows_per_contact() * s.contacts + k - nf;
+  const std::int64_t h = s.rows + k - nf;
   const Hyperstaticity eq37 = hyperstaticity<dim>(s.contacts, n_star, std::int64_t(km.divalent.size()), s.layout.rotations);
   const std::vector<GlobalId> rattlers = gather_rattlers(v);
 
@@ -154,9 +174,17 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["backbone_grains"] = n_star;
   j["backbone_contacts"] = s.contacts;
   j["rattlers"] = std::int64_t(rattlers.size());
+  j["detached_clusters"] = v.detached_clusters;  // interaction network only: not in the largest cluster
+  j["detached_grains"] = v.detached_grains;
   j["grain_dofs"] = g;
   j["N_f"] = nf;
-  j["G_rows"] = s.layout.rows_per_contact() * s.contacts;
+  j["G_rows"] = s.rows;
+  j["network"] = cohesive ? "interactions" : "backbone";
+  j["distant_pairs"] = s.distant;
+  j["rolling_rows"] = s.layout.rolling;
+  // [GRC]'s names for the same count N_f + H = M + k: eq. (19) with friction, (21) with
+  // rolling resistance, (22) without friction.
+  j["H_relation"] = !s.layout.rotations ? "GRC eq. 22" : s.layout.rolling ? "GRC eq. 21" : "GRC eq. 19";
   j["mechanisms"] = k;
   j["trivial_mechanisms"] = dim;
   j["divalent_mechanisms"] = std::int64_t(km.divalent.size());
@@ -175,10 +203,13 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["smallest_eigenvalues_over_mean_kn"] = eig;
   j["H"] = h;
   j["H_over_Nf"] = double(h) / double(n_star * g);
-  j["H_eq37"] = eq37.degree;
-  j["H_over_Nf_eq37"] = eq37.per_dof;
+  // Eq. (37) is [AR]'s count for cohesionless backbones.
+  j["H_eq37"] = cohesive ? nlohmann::json() : nlohmann::json(eq37.degree);
+  j["H_over_Nf_eq37"] = cohesive ? nlohmann::json() : nlohmann::json(eq37.per_dof);
   j["isostatic"] = h == 0 && k == dim;
   j["positive_definite"] = positive_definite;
+  j["rigid"] = rigid;
+  j["K1_negative_pivots"] = k1f.negative_pivots;
   if (ldl_k) {
     j["K_negative_pivots"] = ldl_k->negative_pivots;
     j["K_null_pivots"] = ldl_k->null_pivots;
@@ -187,6 +218,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
     j["K_negative_pivots"] = j["K_null_pivots"] = j["K_positive_definite"] = nullptr;
   }
   j["virtual_work_residual"] = vw.residual;
+  j["virtual_work_reference"] = cohesive ? "|f| (contact forces)" : "|F_ext|";
   j["virtual_work_grain_residual"] = vw.grain_residual;
   j["max_net_grain_force"] = vw.max_grain_force;
   j["prescribed_stress_source"] = stress_source;
@@ -253,6 +285,8 @@ std::string table(const nlohmann::json& j) {
       {"dimension, n, ranks", count(j["dimension"]) + ", " + count(j["n"]) + ", " + count(j["ranks"])},
       {"friction mu", j["friction"].dump()},
       {"backbone grains, contacts", count(j["backbone_grains"]) + ", " + count(j["backbone_contacts"])},
+      {"network", j["network"].get<std::string>() + " (distant pairs " + count(j["distant_pairs"]) +
+                      (j["rolling_rows"].get<bool>() ? ", rolling rows)" : ")")},
       {"N_f, rows of G", count(j["N_f"]) + ", " + count(j["G_rows"])},
       {"virtual work |tG f - F|/|F|", fixed(j["virtual_work_residual"]) + " (grain rows " +
                                           fixed(j["virtual_work_grain_residual"]) + ", Sigma: " +
@@ -260,12 +294,19 @@ std::string table(const nlohmann::json& j) {
       {"mechanisms k", count(j["mechanisms"]) + " = " + count(j["trivial_mechanisms"]) + " trivial + " +
                            count(j["divalent_mechanisms"]) + " divalent + " + count(j["other_mechanisms"]) +
                            " other + " + count(j["strain_mechanisms"]) + " strain"},
-      {"rattlers (not in G), their dofs", count(j["rattlers"]) + ", " + count(j["rattler_mechanisms"])},
+      {"rattlers (not in G), their dofs", count(j["rattlers"]) + ", " + count(j["rattler_mechanisms"]) +
+                                               (j["network"] == "interactions"
+                                                    ? " (" + count(j["detached_grains"]) + " in " +
+                                                          count(j["detached_clusters"]) + " detached clusters)"
+                                                    : std::string())},
       {"divalent modes |K1 v|/(<k_n>|v|)", fixed(j["divalent_mode_residual"])},
       {"smallest eig. (stiffened)/<k_n>", eig},
-      {"K(1) positive definite (stiffened)", yes_no(j["positive_definite"])},
+      {"rigid (only trivial/divalent modes)", yes_no(j["rigid"])},
+      {"K(1) positive definite (stiffened)", yes_no(j["positive_definite"]) + " (negative pivots " +
+                                                 count(j["K1_negative_pivots"]) + ")"},
       {"K(1)+K(2) positive definite", yes_no(j["K_positive_definite"])},
-      {"H (eq. 19), H/N_f*", count(j["H"]) + ", " + fixed(j["H_over_Nf"])},
+      {"H (N_f + H = M + k), H/N_f*", count(j["H"]) + ", " + fixed(j["H_over_Nf"]) + " (" +
+                                          j["H_relation"].get<std::string>() + ")"},
       {"H, H/N_f* from counts (eq. 37)", fixed(j["H_eq37"]) + ", " + fixed(j["H_over_Nf_eq37"])},
       {"isostatic", yes_no(j["isostatic"])},
       {"bulk modulus B (K1+K2) / Pa", fixed(j["bulk_modulus"])},

@@ -92,7 +92,9 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
     km.divalent_residual = std::sqrt(r * r + border) / (kbar * m);
   }
   // Stiffen: <k_n> v vᵀ on each divalent grain's diagonal block (rows owned here).
-  for (BorderedMatrix<dim>* b : {&s.k1, &s.k}) {
+  std::vector<BorderedMatrix<dim>*> matrices = {&s.k1, &s.k};
+  if (s.has_gram) matrices.push_back(&s.gram);
+  for (BorderedMatrix<dim>* b : matrices) {
     for (const auto& [index, v] : rolling)
       if (index >= num.first && index < num.first + num.local) {
         const auto rows = grain_rows(index, g);
@@ -109,8 +111,7 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
   GRANPACK_CHECK(pinned < num.grains, "stiffness: the backbone is empty");
   km.pinned_grain = num.ids[pinned];
   const bool owner = pinned >= num.first && pinned < num.first + num.local;
-  pin(s.k1, pinned, g, owner, kbar);
-  pin(s.k, pinned, g, owner, kbar);
+  for (BorderedMatrix<dim>* b : matrices) pin(*b, pinned, g, owner, kbar);
   return km;
 }
 

@@ -71,15 +71,33 @@ template <int dim> void finish_bordered(BorderedMatrix<dim>& b, MPI_Comm comm) {
 }  // namespace
 
 template <int dim>
+RigidityContact<dim> make_rigidity_contact(const PackingView<dim>& v, const ContactView<dim>& c,
+                                           const ContactLaw<dim>& law, const RigidityLayout<dim>& layout) {
+  const auto& p = v.particles();
+  RigidityContact<dim> rc;
+  rc.geometry = make_pair_geometry<dim>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], c.branch);
+  rc.normal_force = c.total_normal_force();
+  rc.distant = c.distant;
+  if (layout.rotations && !c.distant)
+    rc.tangential_force = c.tangential_force - c.tangential_force.dot(rc.geometry.normal) * rc.geometry.normal;
+  ContactState<dim> state;
+  state.normal_force = c.normal_force;
+  rc.stiffness = law.stiffness(rc.geometry, state);
+  if (layout.rolling && !c.distant) rc.rolling_moment = -rc.stiffness.k_r * c.rolling;
+  return rc;
+}
+
+template <int dim>
 StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const ContactLaw<dim>& law) {
   const auto start = std::chrono::steady_clock::now();
   const auto& p = v.particles();
   StiffnessSystem<dim> s;
   s.comm = v.world;
   s.layout.rotations = v.friction > 0;
+  s.layout.rolling = s.layout.rotations && law.rolling.has_value();
   s.layout.ell = 0.5 * v.diameter;
   s.layout.cell = v.system.cell.length;
-  const int g = s.grain_dofs(), rows_c = s.layout.rows_per_contact();
+  const int g = s.grain_dofs();
 
   // Backbone grains and contacts of this rank, then the partition and numbering.
   std::vector<GlobalId> owned;
@@ -92,6 +110,12 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   s.numbering = number_backbone_grains(v.world, owned, edges);
   const auto& num = s.numbering;
   s.contacts = global_sum(v.world, static_cast<std::int64_t>(mine.size()));
+  PetscInt local_rows = 0;
+  std::int64_t local_distant = 0;
+  for (const auto* c : mine) local_rows += s.layout.rows_per_contact(c->distant), local_distant += c->distant;
+  s.distant = global_sum(v.world, local_distant);
+  s.rows = global_sum(v.world, std::int64_t(local_rows));
+  s.has_gram = s.distant > 0;
 
   // Block nonzeros per owned grain row: 1 + its backbone contacts (counted where the rows live).
   OwnedVec counts = grain_vector(v.world, num.local);
@@ -113,12 +137,12 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   }
   init_bordered(s.k1, v.world, g, num.local, nnz);
   init_bordered(s.k, v.world, g, num.local, nnz);
+  if (s.has_gram) init_bordered(s.gram, v.world, g, num.local, nnz);
 
   // G: this rank's contact rows; columns laid out like K_uu's rows, strains on the last rank.
   int rank = 0, size = 1;
   MPI_Comm_rank(v.world, &rank);
   MPI_Comm_size(v.world, &size);
-  const PetscInt local_rows = PetscInt(mine.size()) * rows_c;
   const PetscInt local_cols = PetscInt(num.local) * g + (rank == size - 1 ? dim : 0);
   GRANPACK_PETSC(MatCreate(v.world, s.G.address()));
   GRANPACK_PETSC(MatSetSizes(s.G, local_rows, local_cols, PETSC_DETERMINE, PETSC_DETERMINE));
@@ -132,6 +156,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   const PetscInt strain_col = PetscInt(num.grains) * g;
 
   double sum_kn = 0;
+  std::int64_t touching = 0;
   std::vector<DivalentContact> divalent;
   std::vector<PetscInt> rows(2 * g), cols(per_row);
   PetscInt row = first_row;
@@ -139,28 +164,32 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   // one rank only: collectively() makes every rank throw it before the next collective call.
   collectively(v.world, [&] {
   for (const auto* c : mine) {
-    RigidityContact<dim> rc;
-    rc.geometry = make_pair_geometry<dim>(p.radius[c->i], p.radius[c->j], p.mass[c->i], p.mass[c->j], c->branch);
-    rc.normal_force = c->normal_force;
-    if (s.layout.rotations)
-      rc.tangential_force = c->tangential_force - c->tangential_force.dot(rc.geometry.normal) * rc.geometry.normal;
-    ContactState<dim> state;
-    state.normal_force = c->normal_force;
-    rc.stiffness = law.stiffness(rc.geometry, state);
-    GRANPACK_CHECK(rc.stiffness.k_n > 0, "stiffness: a force-carrying contact between grains "
-                                             << p.id[c->i] << " and " << p.id[c->j] << " has no overlap");
-    sum_kn += rc.stiffness.k_n;
+    const RigidityContact<dim> rc = make_rigidity_contact(v, *c, law, s.layout);
+    if (c->distant) {
+      GRANPACK_CHECK(rc.stiffness.distant, "stiffness: the distant pair of grains " << p.id[c->i] << " and "
+                                               << p.id[c->j] << " is not within the cohesion range D0");
+    } else {
+      GRANPACK_CHECK(rc.stiffness.k_n > 0, "stiffness: a force-carrying contact between grains "
+                                               << p.id[c->i] << " and " << p.id[c->j] << " has no overlap");
+      sum_kn += rc.stiffness.k_n, ++touching;
+    }
 
     const PetscInt gi = PetscInt(num.index.at(p.id[c->i])), gj = PetscInt(num.index.at(p.id[c->j]));
     for (int d = 0; d < g; ++d) rows[d] = gi * g + d, rows[g + d] = gj * g + d;
     const DynMatrix k1 = constitutive_block(rc, s.layout);
     add_block(s.k1, k1, rows, g);
     add_block(s.k, DynMatrix(k1 + geometric_block(rc, s.layout)), rows, g);
+    if (s.has_gram) {
+      RigidityContact<dim> positive = rc;
+      positive.stiffness.k_n = std::abs(rc.stiffness.k_n);
+      add_block(s.gram, constitutive_block(positive, s.layout), rows, g);
+    }
 
     // G rows and the contact force.
     std::copy(rows.begin(), rows.end(), cols.begin());
     for (int a = 0; a < dim; ++a) cols[2 * g + a] = strain_col + a;
     const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> grows = rigidity_rows(rc, s.layout);
+    const int rows_c = s.layout.rows_per_contact(rc.distant);
     std::vector<PetscInt> grow_idx(rows_c);
     for (int k = 0; k < rows_c; ++k) grow_idx[k] = row + k;
     GRANPACK_PETSC(MatSetValues(s.G, rows_c, grow_idx.data(), per_row, cols.data(), grows.data(), INSERT_VALUES));
@@ -185,7 +214,8 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   GRANPACK_PETSC(VecAssemblyEnd(s.f));
   finish_bordered(s.k1, v.world);
   finish_bordered(s.k, v.world);
-  s.mean_kn = global_sum(v.world, sum_kn) / std::max<std::int64_t>(1, s.contacts);
+  if (s.has_gram) finish_bordered(s.gram, v.world);
+  s.mean_kn = global_sum(v.world, sum_kn) / std::max<std::int64_t>(1, global_sum(v.world, touching));
 
   // Every rank gets every divalent record (a few per cent of the grains, 40 bytes each).
   const int bytes = int(divalent.size() * sizeof(DivalentContact));
@@ -201,6 +231,10 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   return s;
 }
 
+template RigidityContact<2> make_rigidity_contact<2>(const PackingView<2>&, const ContactView<2>&,
+                                                     const ContactLaw<2>&, const RigidityLayout<2>&);
+template RigidityContact<3> make_rigidity_contact<3>(const PackingView<3>&, const ContactView<3>&,
+                                                     const ContactLaw<3>&, const RigidityLayout<3>&);
 template StiffnessSystem<2> assemble_stiffness<2>(const PackingView<2>&, const ContactLaw<2>&);
 template StiffnessSystem<3> assemble_stiffness<3>(const PackingView<3>&, const ContactLaw<3>&);
 

@@ -5,7 +5,8 @@
 namespace granpack {
 
 template <int dim>
-VirtualWork check_virtual_work(const StiffnessSystem<dim>& s, const Vec<dim>& prescribed_stress, double volume) {
+VirtualWork check_virtual_work(const StiffnessSystem<dim>& s, const Vec<dim>& prescribed_stress, double volume,
+                               bool relative_to_forces) {
   OwnedVec loads, ext;
   GRANPACK_PETSC(MatCreateVecs(s.G, loads.address(), nullptr));
   GRANPACK_PETSC(MatMultTranspose(s.G, s.f, loads));
@@ -49,12 +50,14 @@ VirtualWork check_virtual_work(const StiffnessSystem<dim>& s, const Vec<dim>& pr
     const double d = strain[a] - volume * prescribed_stress[a] / s.layout.cell[a];
     strain_diff2 += d * d;
   }
-  w.residual = diff_norm / ext_norm;
-  w.grain_residual = std::sqrt(std::max(0.0, diff_norm * diff_norm - strain_diff2)) / ext_norm;
+  PetscReal reference = ext_norm;
+  if (relative_to_forces) GRANPACK_PETSC(VecNorm(s.f, NORM_2, &reference));
+  w.residual = diff_norm / reference;
+  w.grain_residual = std::sqrt(std::max(0.0, diff_norm * diff_norm - strain_diff2)) / reference;
   return w;
 }
 
-template VirtualWork check_virtual_work<2>(const StiffnessSystem<2>&, const Vec<2>&, double);
-template VirtualWork check_virtual_work<3>(const StiffnessSystem<3>&, const Vec<3>&, double);
+template VirtualWork check_virtual_work<2>(const StiffnessSystem<2>&, const Vec<2>&, double, bool);
+template VirtualWork check_virtual_work<3>(const StiffnessSystem<3>&, const Vec<3>&, double, bool);
 
 }  // namespace granpack

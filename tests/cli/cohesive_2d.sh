@@ -13,7 +13,8 @@
 # - the static pressure from these forces is P within 1e-4 F0/a;
 # - report.json's [GRC] coordination (z over all interactions, z+ / z- / z0 by the sign of the
 #   static normal force beyond 1e-4 F0, distant fraction) equals the count from the file;
-# - `granpack stiffness` refuses the packing (exit 3: not implemented for [GRC] laws yet);
+# - `granpack stiffness` (1 and 2 ranks): the network is rigid, K(1) positive definite, G has
+#   3 rows per contact (rolling resistance) and 1 per distant pair, H by eq. (21);
 # - `granpack analyze` (1 and 2 ranks, same results) gives the interaction statistics of
 #   [GRC] sec. IV that the file gives independently: z+/z-/z0, the vanishing and > F0/10
 #   fractions, the N/F0 and force-angle histograms, Rumpf's eq. (17) and the percolation
@@ -29,12 +30,35 @@ for np in 1 2; do
     echo "FAIL: run on $np rank(s):"; tail -20 "$scratch/np$np.txt"; exit 1
   fi
 done
-# The rigidity of cohesive / rolling-resistant packings is not assembled yet: refused (exit 3).
-"$GRANPACK_EXE" stiffness "$scratch/np1/final.h5" > "$scratch/stiff.txt" 2>&1
-code=$?
-if [ $code -ne 3 ] || ! grep -q "cohesion or rolling resistance (\[GRC\]) is not implemented yet" "$scratch/stiff.txt"; then
-  echo "FAIL: stiffness of a cohesive packing: exit $code"; cat "$scratch/stiff.txt"; exit 1
-fi
+# Rigidity ([GRC] App. A) on 1 and 2 ranks: the interaction network of an equilibrated packing
+# with rolling resistance at P* = 0.01 is rigid (only the 2 translations), K(1) is positive
+# definite; G has 3 rows per contact and 1 per distant pair; both runs agree.
+for np in 1 2; do
+  if ! mpiexec -n $np "$GRANPACK_EXE" stiffness "$scratch/np2/final.h5" --json "$scratch/st$np.json" > "$scratch/st$np.txt" 2>&1; then
+    echo "FAIL: stiffness on $np rank(s):"; tail -20 "$scratch/st$np.txt"; exit 1
+  fi
+done
+/usr/bin/python3 - "$scratch" <<'PY' || exit 1
+import json, sys
+d = sys.argv[1]
+a, b = (json.load(open(f"{d}/st{n}.json")) for n in (1, 2))
+bad = []
+for j in (a, b):
+    if not (j["rigid"] and j["positive_definite"] and j["mechanisms"] == 2):
+        bad.append(f"ranks {j['ranks']}: rigid {j['rigid']}, positive definite {j['positive_definite']}, k {j['mechanisms']}")
+    rows = 3 * (j["backbone_contacts"] - j["distant_pairs"]) + j["distant_pairs"]
+    if j["G_rows"] != rows or j["H"] != rows + j["mechanisms"] - j["N_f"] or j["H_relation"] != "GRC eq. 21":
+        bad.append(f"ranks {j['ranks']}: rows {j['G_rows']} (expected {rows}), H {j['H']}, {j['H_relation']}")
+for key in ("H", "mechanisms", "backbone_contacts", "distant_pairs"):
+    if a[key] != b[key]:
+        bad.append(f"{key}: {a[key]} on 1 rank, {b[key]} on 2")
+if abs(a["bulk_modulus"] - b["bulk_modulus"]) > 1e-8 * abs(a["bulk_modulus"]):
+    bad.append(f"B {a['bulk_modulus']} on 1 rank, {b['bulk_modulus']} on 2")
+if bad:
+    print("FAIL: stiffness of the cohesive packing:", *bad, sep="\n  ")
+    sys.exit(1)
+print(f"stiffness: H {a['H']} (eq. 21), B {a['bulk_modulus']:.6g} N/m on 1 and 2 ranks")
+PY
 for np in 1 2; do
   if ! mpiexec -n $np "$GRANPACK_EXE" analyze "$scratch/np2/final.h5" --json "$scratch/an$np.json" > "$scratch/an$np.txt" 2>&1; then
     echo "FAIL: analyze on $np rank(s):"; tail -20 "$scratch/an$np.txt"; exit 1

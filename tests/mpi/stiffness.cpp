@@ -91,19 +91,23 @@ inertia_max = 1.0e-2
 
 struct Dense {
   std::int64_t mechanisms = 0, rows = 0, dof = 0;
+  std::int64_t k1_negative = 0;  ///< negative eigenvalues of the pinned, stiffened K(1)_uu
   double bulk_k1 = 0, bulk = 0, smallest_kept_singular = 0, largest_dropped_singular = 0;
 };
 
 /// The dense reference, on rank 0 alone: the same per-contact kernels, assembled into full
-/// Eigen matrices, with an SVD for the rank of G and dense linear algebra for B.
+/// Eigen matrices, with an SVD for the rank of G and dense linear algebra for B. With
+/// cohesion the network is the whole interaction network, as `granpack stiffness` takes it.
+template <int dim>
 Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j, double threshold) {
+  using TensorD = Eigen::Matrix<double, dim, dim>;
   const FileMeta meta = read_file_meta(MPI_COMM_SELF, file);
-  const PackingView<3> v = load_packing<3>(MPI_COMM_SELF, file, meta, threshold, 1.5);
-  MaterialSpec mat = v.deck.material;
-  mat.friction = v.friction;
-  const ContactLaw<3> law = contact_law_of<3>(mat);
-  RigidityLayout<3> l;
+  PackingView<dim> v = load_packing<dim>(MPI_COMM_SELF, file, meta, threshold, 1.5);
+  const ContactLaw<dim> law = contact_law_of<dim>(v.material);
+  if (law.cohesion) select_interaction_network(v);
+  RigidityLayout<dim> l;
   l.rotations = v.friction > 0;
+  l.rolling = l.rotations && law.rolling.has_value();
   l.ell = 0.5 * v.diameter;
   l.cell = v.system.cell.length;
   const auto& p = v.particles();
@@ -112,40 +116,36 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
     if (!v.rattler(i)) index.emplace(p.id[i], 0);
   int next = 0;
   for (auto& [id, k] : index) k = next++;
-  const int g = l.grain_dofs(), rc = l.rows_per_contact();
-  const int nf = next * g + 3;
-  std::vector<RigidityContact<3>> cs;
+  const int g = l.grain_dofs();
+  const int nf = next * g + dim;
+  std::vector<RigidityContact<dim>> cs;
   std::vector<std::pair<int, int>> ends;
+  int rows_total = 0;
   for (const auto& c : v.contacts) {
     if (!on_backbone(v, c)) continue;
-    RigidityContact<3> x;
-    x.geometry = make_pair_geometry<3>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], c.branch);
-    x.normal_force = c.normal_force;
-    if (l.rotations)
-      x.tangential_force = c.tangential_force - c.tangential_force.dot(x.geometry.normal) * x.geometry.normal;
-    ContactState<3> st;
-    x.stiffness = law.stiffness(x.geometry, st);
-    cs.push_back(x);
+    cs.push_back(make_rigidity_contact(v, c, law, l));
     ends.emplace_back(index.at(p.id[c.i]), index.at(p.id[c.j]));
+    rows_total += l.rows_per_contact(c.distant);
   }
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(rc * cs.size(), nf), K1 = Eigen::MatrixXd::Zero(nf, nf);
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(rows_total, nf), K1 = Eigen::MatrixXd::Zero(nf, nf);
   Eigen::MatrixXd K = K1;
   double kbar = 0;
-  
+  int touching = 0, row = 0;
   for (std::size_t c = 0; c < cs.size(); ++c) {
     std::vector<int> dofs;
     for (int d = 0; d < g; ++d) dofs.push_back(ends[c].first * g + d);
     for (int d = 0; d < g; ++d) dofs.push_back(ends[c].second * g + d);
-    for (int a = 0; a < 3; ++a) dofs.push_back(next * g + a);
+    for (int a = 0; a < dim; ++a) dofs.push_back(next * g + a);
     const DynMatrix rows = rigidity_rows(cs[c], l);
     const DynMatrix k1 = constitutive_block(cs[c], l), k = k1 + geometric_block(cs[c], l);
     for (std::size_t a = 0; a < dofs.size(); ++a) {
-      for (int r = 0; r < rc; ++r) G(rc * c + r, dofs[a]) += rows(r, a);
+      for (int r = 0; r < rows.rows(); ++r) G(row + r, dofs[a]) += rows(r, a);
       for (std::size_t b = 0; b < dofs.size(); ++b) K1(dofs[a], dofs[b]) += k1(a, b), K(dofs[a], dofs[b]) += k(a, b);
     }
-    kbar += cs[c].stiffness.k_n;
+    row += int(rows.rows());
+    if (!cs[c].distant) kbar += cs[c].stiffness.k_n, ++touching;
   }
-  kbar /= double(cs.size());
+  kbar /= double(touching);
   Dense out;
   out.rows = G.rows();
   out.dof = nf;
@@ -158,51 +158,86 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
     else out.largest_dropped_singular = std::max(out.largest_dropped_singular, sv[k]);
   }
   out.mechanisms = nf - rank;
-  if (!j["moduli_valid"].get<bool>()) return out;  // floppy: no response to compare
 
   const int nu = next * g;
-  auto bulk_of = [&](const Eigen::Matrix3d& schur, bool with_stress) {
-    const Eigen::Matrix3d kc = l.cell.asDiagonal() * schur * l.cell.asDiagonal();
-    Eigen::Matrix3d c = kc / v.system.cell.volume();
+  auto bulk_of = [&](const TensorD& schur, bool with_stress) {
+    const TensorD kc = l.cell.asDiagonal() * schur * l.cell.asDiagonal();
+    TensorD c = kc / v.system.cell.volume();
     if (with_stress)
-      for (int a = 0; a < 3; ++a) c.row(a).array() += v.stress(a, a);
-    return c.sum() / 9.0;
+      for (int a = 0; a < dim; ++a) c.row(a).array() += v.stress(a, a);
+    return c.sum() / double(dim * dim);
   };
+  // The same pinned grain and stiffened rolling modes as the distributed code.
+  auto pinned = [&](Eigen::MatrixXd m) {
+    for (const auto& d : j["divalent_grains"]) {
+      if constexpr (dim == 3) {
+        const int gi = index.at(d["grain"].get<GlobalId>());
+        std::vector<granpack::Vec<3>> pts;
+        for (std::size_t c = 0; c < cs.size(); ++c) {
+          if (ends[c].first == gi) pts.push_back(cs[c].geometry.branch_i());
+          if (ends[c].second == gi) pts.push_back(cs[c].geometry.branch_j());
+        }
+        EXPECT_EQ(pts.size(), 2u);
+        const auto vmode = divalent_rolling_mode(pts[0], pts[1], l.ell);
+        m.block(gi * g, gi * g, 6, 6) += kbar * vmode * vmode.transpose();
+      }
+    }
+    const int pin = index.at(j["pinned_grain"].get<GlobalId>());
+    for (int a = 0; a < dim; ++a) {
+      m.row(pin * g + a).setZero();
+      m.col(pin * g + a).setZero();
+      m(pin * g + a, pin * g + a) = kbar;
+    }
+    return m;
+  };
+  {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(pinned(K1).topLeftCorner(nu, nu));
+    for (int k = 0; k < nu; ++k) out.k1_negative += es.eigenvalues()[k] < -1e-9 * kbar;
+  }
+  if (!j["moduli_valid"].get<bool>()) return out;  // floppy or unstable: no response to compare
+
   // K(1): the grain block's pseudo-inverse (the border lies in its range, K1 = ᵀG 𝒦 G).
   {
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(K1.topLeftCorner(nu, nu));
     const auto& lam = es.eigenvalues();
+    const double top = lam.cwiseAbs().maxCoeff();
     Eigen::VectorXd inv = Eigen::VectorXd::Zero(nu);
     for (int k = 0; k < nu; ++k)
-      if (lam[k] > 1e-10 * lam[nu - 1]) inv[k] = 1.0 / lam[k];
+      if (std::abs(lam[k]) > 1e-10 * top) inv[k] = 1.0 / lam[k];
     const Eigen::MatrixXd pinv = es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
-    const Eigen::Matrix3d schur = K1.bottomRightCorner(3, 3) - K1.bottomLeftCorner(3, nu) * pinv * K1.topRightCorner(nu, 3);
+    const TensorD schur = K1.bottomRightCorner(dim, dim) - K1.bottomLeftCorner(dim, nu) * pinv * K1.topRightCorner(nu, dim);
     out.bulk_k1 = bulk_of(schur, false);
   }
-  // K: the same pinned grain and stiffened rolling modes as the distributed code, dense LU.
+  // K: dense LU of the pinned grain block.
   {
-    for (const auto& d : j["divalent_grains"]) {
-      const int gi = index.at(d["grain"].get<GlobalId>());
-      std::vector<granpack::Vec<3>> pts;
-      for (std::size_t c = 0; c < cs.size(); ++c) {
-        if (ends[c].first == gi) pts.push_back(cs[c].geometry.branch_i());
-        if (ends[c].second == gi) pts.push_back(cs[c].geometry.branch_j());
-      }
-      EXPECT_EQ(pts.size(), 2u);
-      const auto vmode = divalent_rolling_mode(pts[0], pts[1], l.ell);
-      K.block(gi * g, gi * g, 6, 6) += kbar * vmode * vmode.transpose();
-    }
-    const int pin = index.at(j["pinned_grain"].get<GlobalId>());
-    for (int a = 0; a < 3; ++a) {
-      K.row(pin * g + a).setZero();
-      K.col(pin * g + a).setZero();
-      K(pin * g + a, pin * g + a) = kbar;
-    }
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K.topLeftCorner(nu, nu));
-    const Eigen::Matrix3d schur = K.bottomRightCorner(3, 3) - K.bottomLeftCorner(3, nu) * lu.solve(K.topRightCorner(nu, 3));
+    const Eigen::MatrixXd kp = pinned(K);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(kp.topLeftCorner(nu, nu));
+    const TensorD schur = kp.bottomRightCorner(dim, dim) - kp.bottomLeftCorner(dim, nu) * lu.solve(kp.topRightCorner(nu, dim));
     out.bulk = bulk_of(schur, true);
   }
   return out;
+}
+
+/// The distributed result against the dense one (rank 0).
+template <int dim> void expect_matches_dense(const std::string& tag, const std::filesystem::path& file,
+                                             const nlohmann::json& json, double threshold) {
+  const Dense d = dense_reference<dim>(file, json, threshold);
+  // The rank decision is clear-cut: a wide gap between kept and dropped singular values.
+  EXPECT_LT(d.largest_dropped_singular, 1e-12 * d.smallest_kept_singular);
+  EXPECT_EQ(json["N_f"].get<std::int64_t>(), d.dof);
+  EXPECT_EQ(json["G_rows"].get<std::int64_t>(), d.rows);
+  EXPECT_EQ(json["mechanisms"].get<std::int64_t>(), d.mechanisms) << tag << ", threshold " << threshold;
+  EXPECT_EQ(json["H"].get<std::int64_t>(), d.rows + d.mechanisms - d.dof);
+  EXPECT_EQ(json["K1_negative_pivots"].get<std::int64_t>(), d.k1_negative) << tag;
+  std::printf("[ stiffness ] %s, threshold %g: k = %lld (dense %lld), H = %lld, K(1) negative %lld (dense %lld)\n",
+              tag.c_str(), threshold, (long long)json["mechanisms"].get<std::int64_t>(), (long long)d.mechanisms,
+              (long long)json["H"].get<std::int64_t>(), (long long)json["K1_negative_pivots"].get<std::int64_t>(),
+              (long long)d.k1_negative);
+  if (!json["moduli_valid"].get<bool>()) return;
+  EXPECT_NEAR(json["constitutive"]["bulk_modulus"].get<double>(), d.bulk_k1, 1e-8 * d.bulk_k1);
+  EXPECT_NEAR(json["bulk_modulus"].get<double>(), d.bulk, 1e-8 * d.bulk);
+  std::printf("[ stiffness ] %s: B = %.10g (dense %.10g), B1 = %.10g (dense %.10g)\n", tag.c_str(),
+              json["bulk_modulus"].get<double>(), d.bulk, json["constitutive"]["bulk_modulus"].get<double>(), d.bulk_k1);
 }
 
 void compare_with_dense(const std::string& tag, double mu) {
@@ -223,23 +258,8 @@ void compare_with_dense(const std::string& tag, double mu) {
   EXPECT_EQ(floppy["other_mechanism_grains"].size(), floppy["other_mechanisms"].get<std::size_t>());
   EXPECT_TRUE(floppy["bulk_modulus"].is_null());
   if (rank_of() != 0) return;
-  for (const auto& [json, threshold] : {std::pair{&j, 1e-4}, std::pair{&floppy, floppy_threshold}}) {
-    const Dense d = dense_reference(file, *json, threshold);
-    // The rank decision is clear-cut: a wide gap between kept and dropped singular values.
-    EXPECT_LT(d.largest_dropped_singular, 1e-12 * d.smallest_kept_singular);
-    EXPECT_EQ((*json)["N_f"].get<std::int64_t>(), d.dof);
-    EXPECT_EQ((*json)["mechanisms"].get<std::int64_t>(), d.mechanisms) << "threshold " << threshold;
-    EXPECT_EQ((*json)["H"].get<std::int64_t>(), d.rows + d.mechanisms - d.dof);
-    std::printf("[ stiffness ] %s, threshold %g: k = %lld (dense %lld), H = %lld\n", tag.c_str(), threshold,
-                (long long)(*json)["mechanisms"].get<std::int64_t>(), (long long)d.mechanisms,
-                (long long)(*json)["H"].get<std::int64_t>());
-    if (!(*json)["moduli_valid"].get<bool>()) continue;
-    EXPECT_NEAR((*json)["constitutive"]["bulk_modulus"].get<double>(), d.bulk_k1, 1e-8 * d.bulk_k1);
-    EXPECT_NEAR((*json)["bulk_modulus"].get<double>(), d.bulk, 1e-8 * d.bulk);
-    std::printf("[ stiffness ] %s: B = %.10g (dense %.10g), B1 = %.10g (dense %.10g)\n", tag.c_str(),
-                (*json)["bulk_modulus"].get<double>(), d.bulk, (*json)["constitutive"]["bulk_modulus"].get<double>(),
-                d.bulk_k1);
-  }
+  for (const auto& [json, threshold] : {std::pair{&j, 1e-4}, std::pair{&floppy, floppy_threshold}})
+    expect_matches_dense<3>(tag, file, *json, threshold);
 }
 
 }  // namespace
@@ -289,4 +309,190 @@ TEST(Stiffness, HertzFccCrystal) {
   if (rank_of() == 0)
     std::printf("[ stiffness ] FCC: B = %.10g Pa (analytic %.10g), B(1) = %.10g (analytic %.10g), P = %.8g\n",
                 j["bulk_modulus"].get<double>(), b, j["constitutive"]["bulk_modulus"].get<double>(), b1, p);
+}
+
+namespace {
+
+/// [GRC]-type 2D decks: 80 polydisperse cohesive disks (kappa = a K_N / F0 = 1e3, D0 = 0.02 a
+/// so that distant pairs are not too rare) compressed directly at P* = 0.01 from Phi 0.52.
+/// `variant`: "rr" (mu = 0.5 with rolling resistance, equilibrated), "mid" (the same stopped
+/// after 4000 steps, mid-compression: distant pairs and an unstable K(1)), "norr" (mu = 0.5,
+/// no rolling resistance), "mu0" (frictionless).
+std::string cohesive_deck(const std::string& variant) {
+  const bool rolling = variant == "rr" || variant == "mid";
+  return R"([sample]
+dimension = 2
+n = 80
+diameter = 1.0e-3
+distribution = "uniform"
+min_diameter_ratio = 0.5
+seed = 4
+
+[material]
+density = 2500.0
+normal_law = "linear"
+normal_stiffness = 1.0e6
+tangential_stiffness_ratio = 1.0
+friction = )" + std::string(variant == "mu0" ? "0.0" : "0.5") + R"(
+damping = 0.8
+cohesion_force = 1.0
+cohesion_range = 2.0e-5
+)" + std::string(rolling ? "rolling_stiffness = 1.0e-4\nrolling_friction = 5.0e-6\nrolling_damping = 0.8\n" : "") + R"(
+[output]
+log_every = 1000000
+
+[[stage]]
+kind = "random"
+phi = 0.52
+
+[[stage]]
+kind = "compress"
+pressure = 10.0
+cell_mass = 0.3
+cell_mass_per_length = true
+tolerance_force = 1e-3
+tolerance_moment = 1e-3
+tolerance_stress = 1e-3
+tolerance_kinetic = 1e-6
+)" + std::string(variant == "mid" ? "max_steps = 4000\n" : "");
+}
+
+nlohmann::json cohesive_case(const std::string& variant, std::filesystem::path* file) {
+  *file = run_text_deck("stiffness_cohesive_" + variant, cohesive_deck(variant));
+  const auto j = run_stiffness(*file);
+  EXPECT_EQ(j["network"], "interactions");
+  EXPECT_EQ(j["other_mechanism_grains"].size(), j["other_mechanisms"].get<std::size_t>());
+  return j;
+}
+
+}  // namespace
+
+TEST(Stiffness, CohesiveRollingPackingMatchesDense) {
+  // [GRC] App. A: with rolling resistance the equilibrated packing at P* = 0.01 is rigid and
+  // K(1) positive definite; rows 3 per contact, H from eq. (21).
+  std::filesystem::path file;
+  const auto j = cohesive_case("rr", &file);
+  EXPECT_EQ(j["H_relation"], "GRC eq. 21");
+  EXPECT_TRUE(j["rigid"].get<bool>());
+  EXPECT_TRUE(j["positive_definite"].get<bool>());
+  EXPECT_EQ(j["mechanisms"], 2);
+  EXPECT_EQ(j["G_rows"].get<std::int64_t>(), 3 * j["backbone_contacts"].get<std::int64_t>());
+  EXPECT_LT(j["virtual_work_residual"].get<double>(), 2e-2);  // criteria 1e-3 F0 per grain
+  if (rank_of() == 0) expect_matches_dense<2>("cohesive rr", file, j, 1e-4);
+}
+
+TEST(Stiffness, CohesiveDistantPairsMatchDense) {
+  // Mid-compression: distant pairs (one normal row, stiffness -F0/D0) make K(1) indefinite;
+  // the mechanisms still come from G (ᵀG|𝒦|G), and the negative pivots of K(1) equal the
+  // negative eigenvalues of the dense matrix.
+  std::filesystem::path file;
+  const auto j = cohesive_case("mid", &file);
+  ASSERT_GT(j["distant_pairs"].get<std::int64_t>(), 0);
+  EXPECT_GT(j["K1_negative_pivots"].get<std::int64_t>(), 0);
+  EXPECT_FALSE(j["positive_definite"].get<bool>());
+  EXPECT_TRUE(j["bulk_modulus"].is_null());
+  if (rank_of() == 0) expect_matches_dense<2>("cohesive mid", file, j, 1e-4);
+}
+
+TEST(Stiffness, CohesiveWithoutRollingMatchesDense) {
+  // No rolling resistance (eq. 19) and no friction (eq. 22): the disks with a single contact
+  // keep a free motion each ([GRC] sec. III: "the free rolling of isolated grains with only
+  // one contact"), named as one-grain mechanisms.
+  for (const std::string variant : {"norr", "mu0"}) {
+    std::filesystem::path file;
+    const auto j = cohesive_case(variant, &file);
+    EXPECT_EQ(j["H_relation"], variant == "mu0" ? "GRC eq. 22" : "GRC eq. 19");
+    const auto rows_per = variant == "mu0" ? 1 : 2;
+    EXPECT_EQ(j["G_rows"].get<std::int64_t>(), rows_per * j["backbone_contacts"].get<std::int64_t>());
+    EXPECT_GT(j["other_mechanisms"].get<std::int64_t>(), 0);
+    for (const auto& m : j["other_mechanism_grains"]) EXPECT_EQ(m.size(), 1u) << variant;
+    if (rank_of() == 0) expect_matches_dense<2>("cohesive " + variant, file, j, 1e-4);
+  }
+}
+
+TEST(Stiffness, CohesiveHexCrystalAtZeroPressure) {
+  // 128 equal cohesive disks on a triangular lattice relaxed at P = 0: every contact at
+  // h0 = F0/K_N carries N = 0, so K(2) = 0, and the response is affine (every disk is a
+  // centre of inversion). Linear springs: B = sqrt(3)/2 K_N, G_diag = sqrt(3)/4 (K_N + K_T),
+  // whatever the lattice spacing (docs/stiffness.md). Rows: 3 per contact with rolling
+  // resistance; k = 2; H = 3 N_c + 2 - (3 n + 2) with N_c = 3 n.
+  const std::string deck = R"([sample]
+dimension = 2
+n = 128
+diameter = 1.0e-3
+
+[material]
+density = 2500.0
+normal_law = "linear"
+normal_stiffness = 1.0e5
+tangential_stiffness_ratio = 0.5
+friction = 0.5
+damping = 0.8
+cohesion_force = 0.1
+cohesion_range = 1.0e-6
+rolling_stiffness = 1.0e-5
+rolling_friction = 5.0e-6
+rolling_damping = 0.8
+
+[output]
+log_every = 1000000
+
+[[stage]]
+kind = "lattice"
+lattice = "hex"
+phi = 0.90689
+cells = [8, 8]
+
+[[stage]]
+kind = "compress"
+pressure = 0.0
+cell_mass = 0.3
+cell_mass_per_length = true
+tolerance_force = 1e-6
+tolerance_moment = 1e-6
+tolerance_stress = 1e-6
+tolerance_kinetic = 1e-12
+)";
+  const auto file = run_text_deck("stiffness_cohesive_hex", deck);
+  const auto j = run_stiffness(file);
+  EXPECT_EQ(j["backbone_contacts"], 384);
+  EXPECT_EQ(j["distant_pairs"], 0);
+  EXPECT_EQ(j["N_f"], 3 * 128 + 2);
+  EXPECT_EQ(j["G_rows"], 3 * 384);
+  EXPECT_EQ(j["mechanisms"], 2);
+  EXPECT_EQ(j["H"], 3 * 384 + 2 - (3 * 128 + 2));
+  EXPECT_TRUE(j["rigid"].get<bool>());
+  EXPECT_TRUE(j["positive_definite"].get<bool>());
+  const double kn = 1e5, kt = 0.5e5;
+  const double b = std::sqrt(3.0) / 2 * kn, g = std::sqrt(3.0) / 4 * (kn + kt);
+  // The relaxed crystal keeps a self-stress (H > 0) of ~1e-4 F0 and bond lengths that differ
+  // by ~1e-6 between the three directions; the affine moduli of its actual bonds,
+  //   c_ab = (1/A) sum_c [k_n n_a r_a n_b r_b + k_t sum_g P_ga r_a P_gb r_b], P = 1 - n nᵀ,
+  // are exact up to the second order in that distortion, the closed forms to the first.
+  Eigen::Matrix2d c = Eigen::Matrix2d::Zero();
+  {
+    const FileMeta meta = read_file_meta(MPI_COMM_WORLD, file);
+    const PackingView<2> v = load_packing<2>(MPI_COMM_WORLD, file, meta, 1e-4, 1.5);
+    for (const auto& ct : v.contacts) {
+      const Eigen::Vector2d r = ct.branch, n = r.normalized();
+      const Eigen::Matrix2d proj = Eigen::Matrix2d::Identity() - n * n.transpose();
+      for (int a = 0; a < 2; ++a)
+        for (int bb = 0; bb < 2; ++bb)
+          c(a, bb) += kn * n[a] * r[a] * n[bb] * r[bb] + kt * (proj.col(a) * r[a]).dot(proj.col(bb) * r[bb]);
+    }
+    MPI_Allreduce(MPI_IN_PLACE, c.data(), 4, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    c /= v.system.cell.volume();
+  }
+  const double b_affine = c.sum() / 4, g_affine = ((c(0, 0) + c(1, 1)) / 2 - c(0, 1)) / 2;
+  EXPECT_NEAR(j["constitutive"]["bulk_modulus"].get<double>(), b_affine, 1e-9 * b);
+  EXPECT_NEAR(j["constitutive"]["shear_modulus_diag"].get<double>(), g_affine, 1e-9 * g);
+  EXPECT_NEAR(j["constitutive"]["bulk_modulus"].get<double>(), b, 1e-5 * b);
+  EXPECT_NEAR(j["constitutive"]["shear_modulus_diag"].get<double>(), g, 1e-5 * g);
+  // With K(2) and the stress term: the self-stress is ~1e-4 F0, N/r ~ 1e-4 K_N.
+  EXPECT_NEAR(j["bulk_modulus"].get<double>(), b, 1e-4 * b);
+  if (rank_of() == 0)
+    std::printf("[ stiffness ] cohesive hex: B1 = %.10g (affine %.10g, sqrt3/2 K_N = %.10g), G1 = %.10g (affine "
+                "%.10g, sqrt3/4 (K_N + K_T) = %.10g), B = %.10g\n",
+                j["constitutive"]["bulk_modulus"].get<double>(), b_affine, b,
+                j["constitutive"]["shear_modulus_diag"].get<double>(), g_affine, g, j["bulk_modulus"].get<double>());
 }

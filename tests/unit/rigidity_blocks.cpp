@@ -2,8 +2,10 @@
 // blocks are the exact derivative of the contact's generalised loads ᵀG f with respect to
 // the unknowns, the loads following the dynamics' contact law (Hertz normal force, elastic
 // tangential increment, transport of T by the contact's rotation, mid-overlap branch
-// vectors). Checked by central differences in 2D and 3D, with and without friction; the
-// divalent rolling mode is checked to be null.
+// vectors). Checked by central differences in 2D and 3D, with and without friction, and in
+// 2D with [GRC]'s parts: cohesion (N = N^e - F0 in contact), rolling resistance (the moment
+// -K_r δθ) and a distant pair (normal row only, N^a = -F0 (1 - g/D0)); the divalent rolling
+// mode is checked to be null.
 #include <gtest/gtest.h>
 
 #include "granpack/analysis/rigidity_blocks.h"
@@ -13,25 +15,38 @@ using namespace granpack;
 
 namespace {
 
+/// Which contact: [GRC]'s parts are 2D (rolling rows) or any dimension (cohesion).
+struct Case {
+  bool friction = true;
+  bool cohesion = false;  ///< F0 = 50 N (half the Hertz force here), D0 = 1e-5 m
+  bool rolling = false;   ///< K_r = 1e-3 N m, reference moment 2e-6 N m
+  bool distant = false;   ///< the pair 0.4 D0 apart instead of overlapping by h
+};
+
 template <int dim> struct Fixture {
   ContactLaw<dim> law;
   RigidityLayout<dim> layout;
   RigidityContact<dim> c;
   double r_i = 0.5e-3, r_j = 0.4e-3;
   Vec<dim> r;
+  Case kind;
 
-  explicit Fixture(bool friction) {
+  explicit Fixture(bool friction) : Fixture(Case{friction}) {}
+  explicit Fixture(const Case& k) : kind(k) {
     ContactLawParams p;
     p.young_modulus = 70e9;
     p.poisson_ratio = 0.3;
-    p.friction = friction ? 0.3 : 0.0;
+    p.friction = k.friction ? 0.3 : 0.0;
+    if (k.cohesion) p.cohesion_force = 50.0, p.cohesion_range = 1e-5;
+    if (k.rolling) p.rolling_stiffness = 1e-3, p.rolling_friction = 1e-5;
     law = make_contact_law<dim>(p);
-    layout.rotations = friction;
+    layout.rotations = k.friction;
+    layout.rolling = k.rolling;
     layout.ell = 0.5e-3;
     for (int a = 0; a < dim; ++a) layout.cell[a] = 0.01 + 0.001 * a;
     Vec<dim> dir;
     if constexpr (dim == 3) dir = Vec<3>(0.3, -0.5, 0.8); else dir = Vec<2>(0.6, -0.35);
-    const double h = 2e-5;  // h/R ~ 4e-2: K(2) is a few per cent of K(1), well resolved
+    const double h = k.distant ? -0.4e-5 : 2e-5;  // h/R ~ 4e-2: K(2) is a few per cent of K(1)
     r = dir.normalized() * (r_i + r_j - h);
     c = at(r, Vec<dim>::Zero(), RotVec<dim>::Zero(), RotVec<dim>::Zero(), DynVector::Zero(layout.local_size()));
   }
@@ -41,11 +56,18 @@ template <int dim> struct Fixture {
                           const RotVec<dim>& th_j, const DynVector& x) const {
     RigidityContact<dim> out;
     out.geometry = make_pair_geometry<dim>(r_i, r_j, 1.0, 1.0, r_new);
-    const NormalResponse nr = normal_response(law.normal, out.geometry.overlap, out.geometry.effective_radius);
-    out.normal_force = nr.force;
     ContactState<dim> st;
     out.stiffness = law.stiffness(out.geometry, st);
+    if (kind.distant) {  // N^a only, whatever the friction
+      out.distant = true;
+      out.normal_force = law.cohesion->force(out.geometry.overlap);
+      return out;
+    }
+    const NormalResponse nr = normal_response(law.normal, out.geometry.overlap, out.geometry.effective_radius);
+    out.normal_force = nr.force + (law.cohesion ? law.cohesion->force(out.geometry.overlap) : 0.0);
     if (!layout.rotations) return out;
+    // Rolling: Γ^r on j = Γ0 - K_r (θ_j - θ_i) (eq. 9 with the sign of rolling_resistance.h).
+    if (layout.rolling) out.rolling_moment = RotVec<dim>::Constant(2e-6) - law.rolling->k_r * (th_j - th_i);
     if (x.isZero(0)) {  // the reference tangential force: 0.2 N along a tangent
       Vec<dim> t = Vec<dim>::Zero();
       t[0] = 1.0;
@@ -81,8 +103,9 @@ template <int dim> struct Fixture {
   }
 };
 
-template <int dim> void check_derivative(bool friction) {
-  Fixture<dim> f(friction);
+template <int dim> void check_derivative(const Case& kind) {
+  const bool friction = kind.friction;
+  Fixture<dim> f(kind);
   const int m = f.layout.local_size();
   const DynMatrix k1 = constitutive_block(f.c, f.layout);
   const DynMatrix k = k1 + geometric_block(f.c, f.layout);
@@ -109,10 +132,37 @@ template <int dim> void check_derivative(bool friction) {
 
 }  // namespace
 
-TEST(RigidityBlocks, Derivative3DFriction) { check_derivative<3>(true); }
-TEST(RigidityBlocks, Derivative3DFrictionless) { check_derivative<3>(false); }
-TEST(RigidityBlocks, Derivative2DFriction) { check_derivative<2>(true); }
-TEST(RigidityBlocks, Derivative2DFrictionless) { check_derivative<2>(false); }
+TEST(RigidityBlocks, Derivative3DFriction) { check_derivative<3>(Case{true}); }
+TEST(RigidityBlocks, Derivative3DFrictionless) { check_derivative<3>(Case{false}); }
+TEST(RigidityBlocks, Derivative2DFriction) { check_derivative<2>(Case{true}); }
+TEST(RigidityBlocks, Derivative2DFrictionless) { check_derivative<2>(Case{false}); }
+TEST(RigidityBlocks, Derivative2DCohesiveRolling) { check_derivative<2>(Case{true, true, true, false}); }
+TEST(RigidityBlocks, Derivative2DCohesiveFrictionless) { check_derivative<2>(Case{false, true, false, false}); }
+TEST(RigidityBlocks, Derivative2DDistantPair) { check_derivative<2>(Case{true, true, true, true}); }
+TEST(RigidityBlocks, Derivative3DDistantPair) { check_derivative<3>(Case{true, true, false, true}); }
+
+TEST(RigidityBlocks, CohesiveRowsAndForces) {
+  // In contact with rolling resistance: 3 rows (δu, then ρ_i - ρ_j), f = (N n + T, Γ / ell)
+  // with N = N^e - F0, and the rolling stiffness K_r / ell² on the last row.
+  Fixture<2> f(Case{true, true, true, false});
+  const DynMatrix rows = rigidity_rows(f.c, f.layout);
+  ASSERT_EQ(rows.rows(), 3);
+  EXPECT_EQ(rows(2, 2), 1.0);   // ρ_i
+  EXPECT_EQ(rows(2, 5), -1.0);  // ρ_j
+  EXPECT_EQ(rows.row(2).cwiseAbs().sum(), 2.0);
+  const NormalResponse nr = normal_response(f.law.normal, f.c.geometry.overlap, f.c.geometry.effective_radius);
+  EXPECT_NEAR(f.c.normal_force, nr.force - 50.0, 1e-12 * nr.force);
+  const DynVector force = contact_force_vector(f.c, f.layout);
+  EXPECT_NEAR(force[2], 2e-6 / f.layout.ell, 1e-18);
+  EXPECT_NEAR(contact_stiffness(f.c, f.layout)(2, 2), 1e-3 / (f.layout.ell * f.layout.ell), 1e-9);
+  // A distant pair: one normal row and the stiffness -F0/D0, whatever the friction.
+  Fixture<2> d(Case{true, true, true, true});
+  EXPECT_TRUE(d.c.stiffness.distant);
+  EXPECT_EQ(rigidity_rows(d.c, d.layout).rows(), 1);
+  EXPECT_EQ(d.layout.rows_per_contact(true), 1);
+  EXPECT_NEAR(contact_stiffness(d.c, d.layout)(0, 0), -50.0 / 1e-5, 1e-6);
+  EXPECT_NEAR(contact_force_vector(d.c, d.layout)[0], -50.0 * (1 - 0.4), 1e-9);
+}
 
 TEST(RigidityBlocks, LoadsAreTransposedRigidityTimesForces) {
   Fixture<3> f(true);

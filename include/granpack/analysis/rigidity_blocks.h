@@ -15,6 +15,12 @@
 // Sign conventions ([AR] eq. 10 with the dynamics' branch vectors, docs/contact-law.md):
 // delta_u = ũ_i + θ_i x b_i - ũ_j - θ_j x b_j + eps.r_ij is the approach of i's contact point
 // to j's; the contact force F = N n + T acts on j (from i); loads F_ext = ᵀG f.
+//
+// [GRC] App. A adds two kinds of rows (2D). Rolling resistance: one row per contact,
+// ρ_i - ρ_j = ell (θ_i - θ_j), conjugate to Γ^r / ell (Γ^r the rolling moment on j, eq. 9),
+// stiffness K_r / ell². Distant attractions: the normal row only, whatever the friction,
+// with the negative stiffness dN^a/dh = -F0/D0. With cohesion N is the static normal force
+// N^e + N^a (N^a = -F0 in contact), the force the geometry turns in K(2).
 #include <Eigen/Core>
 
 #include "granpack/contact/contact_law.h"
@@ -25,21 +31,28 @@ namespace granpack {
 /// Everything the blocks need about one contact.
 template <int dim> struct RigidityContact {
   PairGeometry<dim> geometry;     ///< from r_ij and the radii (make_pair_geometry)
-  double normal_force = 0;        ///< N^e (> 0: repulsive)
+  double normal_force = 0;        ///< static N = N^e + N^a (> 0: repulsive); N^e without cohesion
   Vec<dim> tangential_force = Vec<dim>::Zero();  ///< T, on j, global frame (0 if frictionless)
+  RotVec<dim> rolling_moment = RotVec<dim>::Zero();  ///< Γ^r on j, elastic: -K_r δθ (2D, RR)
+  bool distant = false;           ///< cohesive pair across a gap: one normal row
   ContactStiffness stiffness;     ///< from ContactLaw::stiffness(): the dynamics' law
 };
 
 /// Unknown layout and scales of one problem.
 template <int dim> struct RigidityLayout {
   bool rotations = true;          ///< false: frictionless, translations only
+  bool rolling = false;           ///< rolling-resistance rows ([GRC] eq. 21; 2D, with rotations)
   double ell = 1;                 ///< rotation length scale (m): rho = theta * ell
   Vec<dim> cell = Vec<dim>::Ones();  ///< L_alpha: e_alpha = eps_alpha L_alpha
 
   int grain_dofs() const { return rotations ? dim + rot_dim<dim> : dim; }
   int local_size() const { return 2 * grain_dofs() + dim; }
-  /// Rows of G per contact: dim with friction (normal and tangential), 1 without.
-  int rows_per_contact() const { return rotations ? dim : 1; }
+  /// Rows of G per contact: dim with friction (normal and tangential) plus one with rolling
+  /// resistance, 1 without friction; a distant pair has its normal row only.
+  int rows_per_contact(bool distant = false) const {
+    if (!rotations || distant) return 1;
+    return dim + (rolling ? 1 : 0);
+  }
 };
 
 using DynMatrix = Eigen::MatrixXd;
@@ -51,15 +64,18 @@ template <int dim>
 DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// G rows of the contact ([AR] eq. 11): delta_u itself with friction (dim rows, global
-/// frame), its normal part n . delta_u without (1 row).
+/// frame), its normal part n . delta_u without or across a gap (1 row); with rolling
+/// resistance the row ρ_i - ρ_j follows.
 template <int dim> DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
-/// The contact's force in G's row space: F = N n + T with friction, N without.
+/// The contact's force in G's row space: F = N n + T with friction (then Γ^r / ell with
+/// rolling resistance), N without or across a gap.
 template <int dim> DynVector contact_force_vector(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// The contact's constitutive stiffness in G's row space (eq. 12-13, global frame):
-/// k_n n nᵀ + k_t (1 - n nᵀ) with friction, k_n without. Elastic values throughout: [AR]
-/// uses the elastic 𝒦 of eq. (13) even on sliding contacts.
+/// k_n n nᵀ + k_t (1 - n nᵀ) with friction (then K_r / ell²), k_n without or across a gap
+/// (-F0/D0 < 0 there). Elastic values throughout: [AR] uses the elastic 𝒦 of eq. (13) even on
+/// sliding contacts, [GRC] App. A the elastic K_T and K_r.
 template <int dim> DynMatrix contact_stiffness(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// m x m constitutive block ᵀG 𝒦 G, eq. (18). Symmetric positive semi-definite.
@@ -68,7 +84,8 @@ template <int dim> DynMatrix constitutive_block(const RigidityContact<dim>& c, c
 /// m x m geometric block K(2): the change of the loads ᵀG f at fixed contact-law response
 /// when the geometry moves (rotation of n and of T, App. B eq. B1-B5; moving branch vectors
 /// and r_ij in the moments and in Omega Sigma). Not symmetric with friction. Derivation in
-/// docs/stiffness.md.
+/// docs/stiffness.md. The 2D rolling moment is a scalar that no geometry change turns: it
+/// adds nothing here.
 template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// Generalised loads of the contact on the local unknowns, (ᵀG f) restricted to the

@@ -25,6 +25,7 @@ template <int dim> struct ContactView {
   Vec<dim> tangential_force; ///< T
   double attraction = 0;     ///< N^a of [GRC] eq. 4-5 (0 without cohesion), from the geometry
   bool distant = false;      ///< a cohesive pair across a gap (flag kDistant): N^e = T = 0
+  RotVec<dim> rolling = RotVec<dim>::Zero();  ///< elastic relative rotation δθ of j from i ([GRC] eq. 9)
   double total_normal_force() const { return normal_force + attraction; }
 };
 
@@ -45,6 +46,11 @@ template <int dim> struct PackingView {
   std::vector<ContactView<dim>> contacts;
   std::vector<CarryingContact> carrying;  ///< N > threshold
   Backbone backbone;             ///< rattler flags and counts per local grain (ghosts copied)
+  /// false: the backbone is [AR]'s force-carrying one (N^e above the threshold); true: the
+  /// whole interaction network of [GRC] sec. III (every contact and distant pair, whatever
+  /// its force; only isolated grains are left out), see select_interaction_network.
+  bool interaction_network = false;
+  std::int64_t detached_clusters = 0, detached_grains = 0;  ///< left out of the network
   std::int64_t n = 0;
 
   const ParticleStore<dim>& particles() const { return system.particles; }
@@ -60,6 +66,14 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
 }  // namespace granpack
 
 namespace granpack {
+
+/// Replaces the backbone by the whole interaction network ([GRC] sec. III: with cohesion "the
+/// whole interacting contact network is to be considered" for rigidity, since a contact at
+/// h = h0 carries N = 0 but still has stiffness K_N): every stored contact and distant pair
+/// of the largest connected cluster counts. Grains outside it are flagged as rattlers: the
+/// isolated ones and those of smaller clusters (detached_clusters, detached_grains), whose
+/// rigid-body motions would otherwise count as mechanisms of the packing. Collective.
+template <int dim> void select_interaction_network(PackingView<dim>& v);
 
 /// Calls f(i, j, r_ij, |r_ij|) for every owned grain i and every local grain j (owned or
 /// ghost, j not an image of i) closer than `cutoff` (<= the view's ghost width), r_ij = r_j - r_i.

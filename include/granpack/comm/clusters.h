@@ -18,4 +18,14 @@ namespace granpack {
 std::int64_t count_clusters(const std::vector<std::pair<GlobalId, GlobalId>>& pairs,
                             std::int64_t n_grains, MPI_Comm comm);
 
+/// The clusters of grains met in `pairs` (grains in no pair are not counted), by the same
+/// gather: the sorted ids of the largest (the smallest id among equal sizes, for a result
+/// that does not depend on the rank count), and how many others there are with how many
+/// grains. Every rank gets the result.
+struct ClusterSplit {
+  std::vector<GlobalId> largest;
+  std::int64_t other_clusters = 0, other_grains = 0;
+};
+ClusterSplit split_clusters(const std::vector<std::pair<GlobalId, GlobalId>>& pairs, MPI_Comm comm);
+
 }  // namespace granpack

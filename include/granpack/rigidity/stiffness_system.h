@@ -39,28 +39,47 @@ template <int dim> struct StiffnessSystem {
   MPI_Comm comm = MPI_COMM_WORLD;
   RigidityLayout<dim> layout;
   GrainNumbering numbering;
-  std::int64_t contacts = 0;      ///< N_c^*: backbone contacts
-  double mean_kn = 0;             ///< <k_n> over backbone contacts (N/m): the matrices' scale
-  OwnedMat G;                     ///< (rows_per_contact N_c^*) x N_f, strain columns last
+  std::int64_t contacts = 0;      ///< N_c^*: backbone contacts (distant pairs included)
+  std::int64_t distant = 0;       ///< N_d: distant attractions among them ([GRC] eq. 19)
+  std::int64_t rows = 0;          ///< rows of G: M of [GRC] App. A
+  double mean_kn = 0;             ///< <k_n> over the contacts in touch (N/m): the matrices' scale
+  OwnedMat G;                     ///< rows x N_f, strain columns last
   OwnedVec f;                     ///< contact forces in G's row space
   BorderedMatrix<dim> k1;         ///< constitutive K(1), eq. (18): symmetric
   BorderedMatrix<dim> k;          ///< K(1) + K(2), App. B: unsymmetric with friction
+  /// ᵀG |𝒦| G, assembled only when there are distant pairs: their -F0/D0 makes K(1)
+  /// indefinite, so that its null space is no longer that of G ([GRC] App. A); with every
+  /// stiffness positive the null space is exactly the mechanisms.
+  BorderedMatrix<dim> gram;
+  bool has_gram = false;
   std::vector<DivalentContact> divalent;  ///< all ranks' records (3D with friction only)
   double assembly_seconds = 0;
 
   int grain_dofs() const { return layout.grain_dofs(); }
+  /// The matrix whose null space is that of G: K(1), or `gram` with distant pairs.
+  BorderedMatrix<dim>& mechanism_matrix() { return has_gram ? gram : k1; }
   std::int64_t dof() const { return numbering.grains * grain_dofs() + dim; }  ///< N_f
 };
 
-/// Builds every matrix from the view's backbone contacts (N > threshold, no rattler).
-/// `law` must be the dynamics' law at the file's state (friction as in force then).
+/// Builds every matrix from the view's backbone contacts (on_backbone). `law` must be the
+/// dynamics' law at the file's state (friction, K_N, K_r as in force then); rolling rows are
+/// added when it has rolling resistance (2D).
 /// Collective on v.world.
 template <int dim>
 StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const ContactLaw<dim>& law);
 
-/// The contact-view predicate used everywhere: on the backbone and carrying force.
+/// The per-contact input of the blocks: geometry, the static forces (N = N^e + N^a, T
+/// projected on the tangent plane, the elastic rolling moment -K_r δθ) and the law's
+/// stiffness at the file's state.
+template <int dim>
+RigidityContact<dim> make_rigidity_contact(const PackingView<dim>& v, const ContactView<dim>& c,
+                                           const ContactLaw<dim>& law, const RigidityLayout<dim>& layout);
+
+/// The contact-view predicate used everywhere: on the backbone and carrying force, or, on an
+/// interaction network (select_interaction_network), any pair between two of its grains.
 template <int dim> bool on_backbone(const PackingView<dim>& v, const ContactView<dim>& c) {
-  return c.normal_force > v.force_threshold && !v.rattler(c.i) && !v.rattler(c.j);
+  if (v.rattler(c.i) || v.rattler(c.j)) return false;
+  return v.interaction_network || c.normal_force > v.force_threshold;
 }
 
 }  // namespace granpack
