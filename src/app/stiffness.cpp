@@ -133,13 +133,24 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   std::optional<DirectSolver> own_k1;
   if (s.has_gram) own_k1 = factorize(s.k1.uu, true, opt.null_pivot_threshold);
   const DirectSolver& k1f = own_k1 ? *own_k1 : chol;
+  // Inertia of K(1): the negative eigenvalues that distant pairs can bring. On a floppy
+  // network the null pivots of a singular matrix come out with either sign, so the count is
+  // taken on K(1) + 1e-9 <k_n> 1: what is counted lies below -1e-9 <k_n>. Without distant
+  // pairs K(1) = ᵀG 𝒦 G with 𝒦 > 0 has none by construction.
+  std::int64_t k1_negative = 0;
+  if (s.has_gram) {
+    OwnedMat shifted;
+    GRANPACK_PETSC(MatDuplicate(s.k1.uu, MAT_COPY_VALUES, shifted.address()));
+    GRANPACK_PETSC(MatShift(shifted, 1e-9 * s.mean_kn));
+    k1_negative = factorize(shifted, true, 0.0).negative_pivots;
+  }
   double eigen_seconds = 0;
   const std::vector<double> eig = smallest_eigenvalues(s.k1.uu, k1f, opt.eigenvalues, s.mean_kn, &eigen_seconds);
   const Moduli<dim> m1 = !own_k1 ? mm
                                  : condense<dim>(s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); },
                                                  v.system.cell.length, volume, Vec<dim>::Zero());
   const Eigen::SelfAdjointEigenSolver<Tensor<dim>> k1_schur_eig(0.5 * (m1.schur + m1.schur.transpose()));
-  const bool positive_definite = rigid && k1f.null_pivots == 0 && k1f.negative_pivots == 0 &&
+  const bool positive_definite = rigid && k1f.null_pivots == 0 && k1f.negative_pivots == 0 && k1_negative == 0 &&
                                  k1_schur_eig.eigenvalues()[0] > 1e-9 * s.mean_kn && !eig.empty() && eig.front() > 0;
   // Unexpected mechanisms are named; the response of such a backbone is not computed.
   std::vector<std::vector<GlobalId>> floppy;
@@ -184,7 +195,10 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["rolling_rows"] = s.layout.rolling;
   // [GRC]'s names for the same count N_f + H = M + k: eq. (19) with friction, (21) with
   // rolling resistance, (22) without friction.
-  j["H_relation"] = !s.layout.rotations ? "GRC eq. 22" : s.layout.rolling ? "GRC eq. 21" : "GRC eq. 19";
+  j["H_relation"] = !cohesive              ? (s.layout.rotations ? "AR eq. 19" : "AR eq. 19 (normal rows)")
+                    : !s.layout.rotations   ? "GRC eq. 22"
+                    : s.layout.rolling      ? "GRC eq. 21"
+                                            : "GRC eq. 19";
   j["mechanisms"] = k;
   j["trivial_mechanisms"] = dim;
   j["divalent_mechanisms"] = std::int64_t(km.divalent.size());
@@ -209,7 +223,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["isostatic"] = h == 0 && k == dim;
   j["positive_definite"] = positive_definite;
   j["rigid"] = rigid;
-  j["K1_negative_pivots"] = k1f.negative_pivots;
+  j["K1_negative_pivots"] = k1_negative;
   if (ldl_k) {
     j["K_negative_pivots"] = ldl_k->negative_pivots;
     j["K_null_pivots"] = ldl_k->null_pivots;
