@@ -15,7 +15,7 @@ packing="$GRANPACK_SOURCE_DIR/docs/data/A_n4000_seed1.h5"
 for np in 1 2; do
   mpiexec -n $np "$GRANPACK_EXE" bench "$packing" --steps 20 --json "$scratch/np$np.json" \
     --static-forces "$scratch/forces$np.txt" --lammps-data "$scratch/bench$np.data" > "$scratch/np$np.txt" 2>&1
-  check "bench on $np rank(s) exits 0" "[ $? -eq 0 ]"
+  rc=$?; check "bench on $np rank(s) exits 0" "[ $rc -eq 0 ]"
   check "report on $np rank(s)" "grep -q 'particle-steps/s per rank' '$scratch/np$np.txt'"
   check "static forces of every grain ($np)" "[ \$(grep -vc '^#' '$scratch/forces$np.txt') -eq 4000 ]"
   check "LAMMPS data file ($np)" "grep -q '^4000 atoms' '$scratch/bench$np.data'"
@@ -27,11 +27,12 @@ assert a["n"] == b["n"] == 4000 and a["ranks"] == 1 and b["ranks"] == 2, (a, b)
 assert abs(a["static_pressure"] - 1e4) < 1.0, a["static_pressure"]
 assert abs(a["static_pressure"] - b["static_pressure"]) < 1e-9 * 1e4, (a, b)
 assert a["static_contacts"] == b["static_contacts"], (a, b)
-assert a["dt"] == b["dt"] and a["particle_steps_per_s_per_rank"] > 0
+# dt comes from the mean overlap, a global sum whose order depends on the rank count.
+assert abs(a["dt"] - b["dt"]) < 1e-12 * a["dt"] and a["particle_steps_per_s_per_rank"] > 0, (a["dt"], b["dt"])
 PY
-check "1 and 2 ranks agree on the static state ($(tail -1 "$scratch/py.txt"))" "[ $? -eq 0 ]"
+rc=$?; check "1 and 2 ranks agree on the static state ($(tail -1 "$scratch/py.txt"))" "[ $rc -eq 0 ]"
 mpiexec -n 1 "$GRANPACK_EXE" bench "$packing" --replicate 0 1 1 > "$scratch/bad.txt" 2>&1
-check "--replicate 0 refused with exit 2" "[ $? -eq 2 ] && grep -q 'replicate' '$scratch/bad.txt'"
+rc=$?; check "--replicate 0 refused with exit 2" "[ $rc -eq 2 ] && grep -q 'replicate' '$scratch/bad.txt'"
 
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -116,7 +116,7 @@ big_png() {  # big_png FILE MIN_BYTES: a PNG of at least 300x300 pixels and MIN_
 
 # --- cohesive packing -------------------------------------------------------------------------
 "$py" "$tool" "$scratch/o1" "$coh" --labels coh --summary > "$scratch/o1.txt" 2>&1
-check "cohesive: exit 0 ($(tail -3 "$scratch/o1.txt"))" "[ $? -eq 0 ]"
+rc=$?; check "cohesive: exit 0 ($(tail -3 "$scratch/o1.txt"))" "[ $rc -eq 0 ]"
 check "cohesive: forces PNG" "big_png '$scratch/o1/coh_forces.png' 20000"
 check "cohesive: N-T PNG" "big_png '$scratch/o1/coh_NT.png' 5000"
 check "cohesive: theta PNG" "big_png '$scratch/o1/coh_theta.png' 5000"
@@ -133,7 +133,7 @@ check "cohesive: a larger threshold finds more unstressed contacts" \
 
 # --- committed cohesionless packings, together -----------------------------------------------
 "$py" "$tool" "$scratch/o3" "$mu05" "$mu015" --summary > "$scratch/o3.txt" 2>&1
-check "cohesionless pair: exit 0 ($(tail -3 "$scratch/o3.txt"))" "[ $? -eq 0 ]"
+rc=$?; check "cohesionless pair: exit 0 ($(tail -3 "$scratch/o3.txt"))" "[ $rc -eq 0 ]"
 for s in method1_noncohesive_mu0.5 method1_noncohesive_mu0.15; do
   check "$s: forces PNG" "big_png '$scratch/o3/${s}_forces.png' 50000"
   check "$s: N-T PNG" "big_png '$scratch/o3/${s}_NT.png' 5000"
@@ -172,7 +172,7 @@ for path in sys.argv[2:]:
     bad += not ok
 sys.exit(bad)
 PY
-check "the tool's forces balance ($(cat "$scratch/balance.txt"))" "[ $? -eq 0 ]"
+rc=$?; check "the tool's forces balance ($(cat "$scratch/balance.txt"))" "[ $rc -eq 0 ]"
 
 # --- bad input: non-zero exit, a clear message, nothing written ------------------------------
 bad() {  # bad NAME PATTERN ARGS...: the tool must fail with PATTERN in its message

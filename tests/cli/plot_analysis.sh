@@ -46,7 +46,7 @@ PY
 check "synthetic JSON written" "[ -s '$scratch/D.json' ] && [ -s '$scratch/A.json' ]"
 
 "$py" "$tool" "$scratch/one" "$scratch/D.json" > "$scratch/one.txt" 2>&1
-check "one file: exit 0 ($(tail -3 "$scratch/one.txt"))" "[ $? -eq 0 ]"
+rc=$?; check "one file: exit 0 ($(tail -3 "$scratch/one.txt"))" "[ $rc -eq 0 ]"
 for f in pf gr zh coordination; do
   check "one file: $f.png is a non-empty PNG" "is_png '$scratch/one/$f.png'"
   check "one file: $f.png listed" "grep -q '$f.png' '$scratch/one.txt'"
@@ -54,7 +54,7 @@ done
 
 "$py" "$tool" "$scratch/two" "$scratch/D.json" "$scratch/A.json" "$scratch/old2d.json" \
   --labels D,A,old > "$scratch/two.txt" 2>&1
-check "two files + an old 2D file: exit 0 ($(tail -3 "$scratch/two.txt"))" "[ $? -eq 0 ]"
+rc=$?; check "two files + an old 2D file: exit 0 ($(tail -3 "$scratch/two.txt"))" "[ $rc -eq 0 ]"
 for f in pf gr zh coordination; do
   check "two files: $f.png is a non-empty PNG" "is_png '$scratch/two/$f.png'"
 done
@@ -79,7 +79,7 @@ check "non-JSON input: non-zero exit with the file's name ($(cat "$scratch/bad.t
   "[ $rc -ne 0 ] && grep -q 'broken.json' '$scratch/bad.txt' && ! grep -q Traceback '$scratch/bad.txt'"
 
 "$py" "$tool" "$scratch/lab" "$scratch/D.json" --labels a,b > "$scratch/lab.txt" 2>&1
-check "--labels count mismatch: non-zero exit" "[ $? -ne 0 ] && grep -q 'labels' '$scratch/lab.txt'"
+rc=$?; check "--labels count mismatch: non-zero exit" "[ $rc -ne 0 ] && grep -q 'labels' '$scratch/lab.txt'"
 
 echo "plot_analysis: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -29,7 +29,7 @@ kind = "write"
 file = "lattice.h5"
 TOML
 mpiexec -n 2 "$GRANPACK_EXE" run "$scratch/lattice.toml" -o "$out" > "$scratch/run.txt" 2>&1
-check "run exits 0" "[ $? -eq 0 ]"
+rc=$?; check "run exits 0" "[ $rc -eq 0 ]"
 for f in report.json final.h5 final.xdmf lattice.h5 lattice.xdmf log.txt; do check "$f written" "[ -s '$out/$f' ]"; done
 check "no temporary files left" "[ -z \"\$(ls '$out' | grep -i tmp)\" ]"
 /usr/bin/python3 - "$out/report.json" <<'PY' > "$scratch/py.txt" 2>&1
@@ -46,18 +46,18 @@ for s in r["stages"]:
 # the lattice stage must produce exactly the requested solid fraction
 assert abs(r["stages"][0]["phi"] - 0.60) < 1e-12, r["stages"][0]["phi"]
 PY
-check "report.json has every key and phi = 0.60 ($(cat "$scratch/py.txt"))" "[ $? -eq 0 ]"
+rc=$?; check "report.json has every key and phi = 0.60 ($(cat "$scratch/py.txt"))" "[ $rc -eq 0 ]"
 
 info=$("$GRANPACK_EXE" info "$out/final.h5" 2>&1)
-check "info on 1 rank exits 0" "[ $? -eq 0 ]"
+rc=$?; check "info on 1 rank exits 0" "[ $rc -eq 0 ]"
 check "info names dimension and n: $info" "grep -q 'dimension' <<<\"\$info\" && grep -q '256' <<<\"\$info\""
 
 "$GRANPACK_EXE" stiffness "$out/final.h5" > "$scratch/a.txt" 2>&1
-check "stiffness of a packing without contacts: exit 2" "[ $? -eq 2 ] && grep -q 'no backbone' '$scratch/a.txt'"
+rc=$?; check "stiffness of a packing without contacts: exit 2" "[ $rc -eq 2 ] && grep -q 'no backbone' '$scratch/a.txt'"
 "$GRANPACK_EXE" info "$scratch/does_not_exist.h5" > "$scratch/i.txt" 2>&1
-check "info on a missing file: exit 2" "[ $? -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/i.txt'"
+rc=$?; check "info on a missing file: exit 2" "[ $rc -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/i.txt'"
 
 "$GRANPACK_EXE" --version | grep -q "granpack"
-check "--version" "[ $? -eq 0 ]"
+rc=$?; check "--version" "[ $rc -eq 0 ]"
 echo "run and info: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

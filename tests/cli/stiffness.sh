@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # End to end: `granpack stiffness` on 2 ranks on the Hertz FCC crystal (run here from the CI
 # deck): exit 0, the table, every required JSON key with the crystal's values (only the 3
-# trivial mechanisms, H from eq. 19, positive definite); bad arguments and files exit 2.
+# trivial mechanisms, H from eq. 19, positive definite); bad arguments and files exit 2; a 3D
+# cohesive packing is refused with exit 3 ([GRC] App. A is implemented in 2D).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 scratch=$(mktemp -d)
@@ -10,9 +11,9 @@ fail=0; pass=0
 check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
 
 mpiexec -n 2 "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/fcc_hertz.toml" -o "$scratch/fcc" -q > "$scratch/run.txt" 2>&1
-check "fcc run exits 0" "[ $? -eq 0 ]"
+rc=$?; check "fcc run exits 0" "[ $rc -eq 0 ]"
 mpiexec -n 2 "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --json "$scratch/s.json" > "$scratch/s.txt" 2>&1
-check "stiffness exits 0 ($(tail -3 "$scratch/s.txt"))" "[ $? -eq 0 ]"
+rc=$?; check "stiffness exits 0 ($(tail -3 "$scratch/s.txt"))" "[ $rc -eq 0 ]"
 check "table printed once" "[ \$(grep -c 'mechanisms k' '$scratch/s.txt') -eq 1 ]"
 /usr/bin/python3 - "$scratch/s.json" <<'PY' > "$scratch/py.txt" 2>&1
 import json, sys
@@ -29,12 +30,22 @@ assert j["positive_definite"] is True and j["isostatic"] is False
 assert j["virtual_work_residual"] < 1e-3, j["virtual_work_residual"]
 assert j["bulk_modulus"] > 0 and j["shear_modulus_diag"] > 0
 PY
-check "JSON keys and FCC values ($(cat "$scratch/py.txt"))" "[ $? -eq 0 ]"
+rc=$?; check "JSON keys and FCC values ($(cat "$scratch/py.txt"))" "[ $rc -eq 0 ]"
 
 "$GRANPACK_EXE" stiffness "$scratch/does_not_exist.h5" > "$scratch/m.txt" 2>&1
-check "missing file: exit 2" "[ $? -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/m.txt'"
+rc=$?; check "missing file: exit 2" "[ $rc -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/m.txt'"
 "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --null-pivot 0 > "$scratch/b.txt" 2>&1
-check "bad --null-pivot: exit 2" "[ $? -eq 2 ]"
+rc=$?; check "bad --null-pivot: exit 2" "[ $rc -eq 2 ]"
+
+# 3D with cohesion: refused (exit 3, not implemented), naming the file; nothing written.
+sed -e 's/^friction = .*/friction = 0.3\ncohesion_force = 1.0e-3\ncohesion_range = 1.0e-6/' \
+  "$GRANPACK_SOURCE_DIR/jobs/decks/ci/fcc_hertz.toml" > "$scratch/fcc_cohesive.toml"
+mpiexec -n 1 "$GRANPACK_EXE" run "$scratch/fcc_cohesive.toml" -o "$scratch/fcc_c" -q > "$scratch/runc.txt" 2>&1
+rc=$?
+check "cohesive fcc run exits 0 ($(tail -2 "$scratch/runc.txt"))" "[ $rc -eq 0 ]"
+"$GRANPACK_EXE" stiffness "$scratch/fcc_c/final.h5" --json "$scratch/c.json" > "$scratch/c.txt" 2>&1
+rc=$?
+check "3D cohesive: exit 3 ($(tail -1 "$scratch/c.txt"))" "[ $rc -eq 3 ] && grep -q 'fcc_c/final.h5: the stiffness of 3D packings with cohesion' '$scratch/c.txt' && [ ! -e '$scratch/c.json' ]"
 
 echo "stiffness.sh: $pass passed, $fail failed"
 [ $fail -eq 0 ]
