@@ -79,6 +79,11 @@ template <int dim> double z_five_thirds(const PackingView<dim>& v) {
   return sums.sums()[3] / sums.contacts() / std::pow(mean, 5.0 / 3.0);
 }
 
+/// Eigenvalues, ascending, of the symmetric part of a Schur complement.
+template <int dim> Vec<dim> schur_eigenvalues(const Moduli<dim>& m) {
+  return Eigen::SelfAdjointEigenSolver<Tensor<dim>>(0.5 * (m.schur + m.schur.transpose())).eigenvalues();
+}
+
 template <int dim> nlohmann::json moduli_json(const Moduli<dim>& m, bool valid) {
   if (!valid) return {{"bulk_modulus", nullptr}, {"shear_modulus_diag", nullptr}, {"c_diagonal_strains", nullptr}};
   std::vector<std::vector<double>> c(dim, std::vector<double>(dim));
@@ -125,20 +130,20 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const GrainSolve mech_solve = [&](::Vec b, ::Vec x) { chol.solve(b, x); };
   const Moduli<dim> mm = condense<dim>(mech, mech_solve, v.system.cell.length, volume, Vec<dim>::Zero());
   // Strain mechanisms: the null space of the (symmetric) Schur complement.
-  const Eigen::SelfAdjointEigenSolver<Tensor<dim>> schur_eig(0.5 * (mm.schur + mm.schur.transpose()));
+  const Vec<dim> mech_schur = schur_eigenvalues(mm);
   int strain_mechanisms = 0;
-  for (int a = 0; a < dim; ++a) strain_mechanisms += schur_eig.eigenvalues()[a] < 1e-9 * s.mean_kn;
+  for (int a = 0; a < dim; ++a) strain_mechanisms += mech_schur[a] < 1e-9 * s.mean_kn;
   const bool rigid = chol.null_pivots == 0 && chol.negative_pivots == 0 && strain_mechanisms == 0;
   // K(1) itself: the same factors without distant pairs, its own LDLᵀ (inertia) with them.
   std::optional<DirectSolver> own_k1;
-  if (s.has_gram) own_k1 = factorize(s.k1.uu, true, opt.null_pivot_threshold);
+  if (s.has_gram()) own_k1 = factorize(s.k1.uu, true, opt.null_pivot_threshold);
   const DirectSolver& k1f = own_k1 ? *own_k1 : chol;
   // Inertia of K(1): the negative eigenvalues that distant pairs can bring. On a floppy
   // network the null pivots of a singular matrix come out with either sign, so the count is
   // taken on K(1) + 1e-9 <k_n> 1: what is counted lies below -1e-9 <k_n>. Without distant
   // pairs K(1) = ᵀG 𝒦 G with 𝒦 > 0 has none by construction.
   std::int64_t k1_negative = 0;
-  if (s.has_gram) {
+  if (s.has_gram()) {
     OwnedMat shifted;
     GRANPACK_PETSC(MatDuplicate(s.k1.uu, MAT_COPY_VALUES, shifted.address()));
     GRANPACK_PETSC(MatShift(shifted, 1e-9 * s.mean_kn));
@@ -149,9 +154,8 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const Moduli<dim> m1 = !own_k1 ? mm
                                  : condense<dim>(s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); },
                                                  v.system.cell.length, volume, Vec<dim>::Zero());
-  const Eigen::SelfAdjointEigenSolver<Tensor<dim>> k1_schur_eig(0.5 * (m1.schur + m1.schur.transpose()));
   const bool positive_definite = rigid && k1f.null_pivots == 0 && k1f.negative_pivots == 0 && k1_negative == 0 &&
-                                 k1_schur_eig.eigenvalues()[0] > 1e-9 * s.mean_kn && !eig.empty() && eig.front() > 0;
+                                 schur_eigenvalues(m1)[0] > 1e-9 * s.mean_kn && !eig.empty() && eig.front() > 0;
   // Unexpected mechanisms are named; the response of such a backbone is not computed.
   std::vector<std::vector<GlobalId>> floppy;
   if (chol.null_pivots > 0)

@@ -93,7 +93,7 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
   }
   // Stiffen: <k_n> v vᵀ on each divalent grain's diagonal block (rows owned here).
   std::vector<BorderedMatrix<dim>*> matrices = {&s.k1, &s.k};
-  if (s.has_gram) matrices.push_back(&s.gram);
+  if (s.has_gram()) matrices.push_back(&s.gram);
   for (BorderedMatrix<dim>* b : matrices) {
     for (const auto& [index, v] : rolling)
       if (index >= num.first && index < num.first + num.local) {

@@ -115,7 +115,6 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   for (const auto* c : mine) local_rows += s.layout.rows_per_contact(c->distant), local_distant += c->distant;
   s.distant = global_sum(v.world, local_distant);
   s.rows = global_sum(v.world, std::int64_t(local_rows));
-  s.has_gram = s.distant > 0;
 
   // Block nonzeros per owned grain row: 1 + its backbone contacts (counted where the rows live).
   OwnedVec counts = grain_vector(v.world, num.local);
@@ -137,7 +136,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   }
   init_bordered(s.k1, v.world, g, num.local, nnz);
   init_bordered(s.k, v.world, g, num.local, nnz);
-  if (s.has_gram) init_bordered(s.gram, v.world, g, num.local, nnz);
+  if (s.has_gram()) init_bordered(s.gram, v.world, g, num.local, nnz);
 
   // G: this rank's contact rows; columns laid out like K_uu's rows, strains on the last rank.
   int rank = 0, size = 1;
@@ -179,7 +178,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
     const DynMatrix k1 = constitutive_block(rc, s.layout);
     add_block(s.k1, k1, rows, g);
     add_block(s.k, DynMatrix(k1 + geometric_block(rc, s.layout)), rows, g);
-    if (s.has_gram) {
+    if (s.has_gram()) {
       RigidityContact<dim> positive = rc;
       positive.stiffness.k_n = std::abs(rc.stiffness.k_n);
       add_block(s.gram, constitutive_block(positive, s.layout), rows, g);
@@ -214,7 +213,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   GRANPACK_PETSC(VecAssemblyEnd(s.f));
   finish_bordered(s.k1, v.world);
   finish_bordered(s.k, v.world);
-  if (s.has_gram) finish_bordered(s.gram, v.world);
+  if (s.has_gram()) finish_bordered(s.gram, v.world);
   s.mean_kn = global_sum(v.world, sum_kn) / std::max<std::int64_t>(1, global_sum(v.world, touching));
 
   // Every rank gets every divalent record (a few per cent of the grains, 40 bytes each).

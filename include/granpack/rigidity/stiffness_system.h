@@ -51,13 +51,13 @@ template <int dim> struct StiffnessSystem {
   /// indefinite, so that its null space is no longer that of G ([GRC] App. A); with every
   /// stiffness positive the null space is exactly the mechanisms.
   BorderedMatrix<dim> gram;
-  bool has_gram = false;
+  bool has_gram() const { return distant > 0; }
   std::vector<DivalentContact> divalent;  ///< all ranks' records (3D with friction only)
   double assembly_seconds = 0;
 
   int grain_dofs() const { return layout.grain_dofs(); }
   /// The matrix whose null space is that of G: K(1), or `gram` with distant pairs.
-  BorderedMatrix<dim>& mechanism_matrix() { return has_gram ? gram : k1; }
+  BorderedMatrix<dim>& mechanism_matrix() { return has_gram() ? gram : k1; }
   std::int64_t dof() const { return numbering.grains * grain_dofs() + dim; }  ///< N_f
 };
 
