@@ -1,6 +1,8 @@
 #include "granpack/core/particles.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <numbers>
 
@@ -103,11 +105,25 @@ template <int dim> void ParticleStore<dim>::remove_owned(std::vector<std::size_t
   }
 }
 
-template <int dim> void ParticleStore<dim>::sort_owned_by_id() {
+template <int dim>
+void ParticleStore<dim>::sort_owned_spatially(const std::array<std::size_t, dim>& bins) {
   assert(n_ghost() == 0 && "clear ghosts before sorting");
+  std::vector<std::uint64_t> key(n_owned_);
+  for (std::size_t i = 0; i < n_owned_; ++i) {
+    std::uint64_t k = 0;
+    for (int a = 0; a < dim; ++a) {
+      // Owned scaled positions are in [0, 1); the clamp only guards round-off at 1.
+      const double s = position[i][a] - std::floor(position[i][a]);
+      const auto b = std::min(bins[a] - 1, static_cast<std::size_t>(s * static_cast<double>(bins[a])));
+      k = k * bins[a] + b;
+    }
+    key[i] = k;
+  }
   std::vector<std::size_t> order(n_owned_);
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return id[a] < id[b]; });
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return key[a] != key[b] ? key[a] < key[b] : id[a] < id[b];
+  });
   auto permute = [&](auto& v) {
     std::remove_reference_t<decltype(v)> out;
     out.reserve(v.size());

@@ -1,6 +1,7 @@
 #include "granpack/dynamics/contact_forces.h"
 
 #include <algorithm>
+#include <array>
 
 namespace granpack {
 
@@ -34,14 +35,58 @@ void ContactForceLoop<dim>::bind(const ParticleStore<dim>& p, const VerletList<d
   store.permute(order);
 }
 
+namespace {
+
+// compute_batched reads the particle arrays as x, y, z triples.
+static_assert(sizeof(Vec<3>) == 3 * sizeof(double) && sizeof(RotVec<3>) == 3 * sizeof(double));
+
+const ContactState<3> kNoContact{};  ///< read by a pair out of contact while no history exists
+
+/// Evaluates listed pair (i, j) with the scalar contact law and adds its forces, torques and
+/// virial; `slot` is its contact in the store (inserted by the caller).
+template <int dim>
+[[gnu::always_inline]] inline void scalar_pair(System<dim>& sys, const ContactLaw<dim>& law,
+                                               std::size_t i, std::size_t j, const Vec<dim>& ds,
+                                               const Vec<dim>& r_ij, std::size_t slot, double dt,
+                                               ForceSums<dim>& sums) {
+  auto& p = sys.particles;
+  ContactState<dim>& st = sys.contacts.state(slot);
+  const double ri = p.radius[i];
+  const auto g = make_pair_geometry<dim>(ri, p.radius[j], p.mass[i], p.mass[j], r_ij);
+  ContactKinematics<dim> kin;
+  kin.v_i = p.velocity[i];
+  // Relative velocity includes the affine part of the cell deformation, Ldot (s_j - s_i).
+  kin.v_j = p.velocity[j] + sys.cell.rate.cwiseProduct(ds);
+  kin.w_i = p.angular_velocity[i];
+  kin.w_j = p.angular_velocity[j];
+  const ContactForces<dim> f = law.force(g, kin, st, dt);
+  if (!f.active) return;
+  p.force[j] += f.force_on_j;
+  p.force[i] -= f.force_on_j;
+  p.torque[i] += f.torque_i;
+  p.torque[j] += f.torque_j;
+  sums.virial.noalias() += f.force_on_j * r_ij.transpose();
+  sums.virial_elastic.noalias() +=
+      ((f.normal_elastic + f.normal_attractive) * g.normal + f.tangential) * r_ij.transpose();
+  ++sums.interacting;
+  // max of h / min(R_i, R_j), dividing only when the maximum may change
+  const double r_min = std::min(ri, p.radius[j]);
+  if (g.overlap > sums.max_overlap * r_min)
+    sums.max_overlap = std::max(sums.max_overlap, g.overlap / r_min);
+}
+
+}  // namespace
+
 template <int dim>
 ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList<dim>& list,
                                               const ContactLaw<dim>& law, double dt) {
+  if constexpr (dim == 3) {
+    if (const auto c = HertzMindlinConstants::of(law)) return compute_batched(sys, list, law, *c, dt);
+  }
   auto& p = sys.particles;
   p.clear_forces();
   ForceSums<dim> sums;
   const Vec<dim> L = sys.cell.length;
-  const Vec<dim> Ldot = sys.cell.rate;
   const double range = law.interaction_range();
   const auto& off = list.offsets();
   const auto& nb = list.neighbor_array();
@@ -61,30 +106,151 @@ ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList
       if (slot_[k] < 0)
         slot_[k] = static_cast<std::ptrdiff_t>(
             sys.contacts.insert(ContactKey{p.id[i], p.id[j]}, ContactState<dim>{}));
-      ContactState<dim>& st = sys.contacts.state(static_cast<std::size_t>(slot_[k]));
-      const auto g = make_pair_geometry<dim>(ri, p.radius[j], p.mass[i], p.mass[j], r_ij);
-      ContactKinematics<dim> kin;
-      kin.v_i = p.velocity[i];
-      // Relative velocity includes the affine part of the cell deformation, Ldot (s_j - s_i).
-      kin.v_j = p.velocity[j] + Ldot.cwiseProduct(ds);
-      kin.w_i = p.angular_velocity[i];
-      kin.w_j = p.angular_velocity[j];
-      const ContactForces<dim> f = law.force(g, kin, st, dt);
-      if (!f.active) continue;
-      p.force[j] += f.force_on_j;
-      p.force[i] -= f.force_on_j;
-      p.torque[i] += f.torque_i;
-      p.torque[j] += f.torque_j;
-      sums.virial.noalias() += f.force_on_j * r_ij.transpose();
-      sums.virial_elastic.noalias() +=
-          ((f.normal_elastic + f.normal_attractive) * g.normal + f.tangential) * r_ij.transpose();
-      ++sums.interacting;
-      // max of h / min(R_i, R_j), dividing only when the maximum may change
-      const double r_min = std::min(ri, p.radius[j]);
-      if (g.overlap > sums.max_overlap * r_min)
-        sums.max_overlap = std::max(sums.max_overlap, g.overlap / r_min);
+      scalar_pair<dim>(sys, law, i, j, ds, r_ij, static_cast<std::size_t>(slot_[k]), dt, sums);
     }
   }
+  return sums;
+}
+
+template <int dim>
+ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys,
+                                                      const VerletList<dim>& list,
+                                                      const ContactLaw<dim>& law,
+                                                      const HertzMindlinConstants& c, double dt)
+  requires(dim == 3)
+{
+  auto& p = sys.particles;
+  p.clear_forces();
+  ForceSums<dim> sums;
+  HertzMindlinSums batch_sums;
+  if (!batch_) batch_ = std::make_unique<HertzMindlinBatch>();
+  HertzMindlinBatch& b = *batch_;
+  constexpr std::size_t cap = HertzMindlinBatch::kCapacity;
+  std::array<std::uint32_t, cap + 1> lane_i{}, lane_j{};
+  std::array<std::size_t, cap + 1> lane_slot{};
+  std::size_t n = 0;
+  const Vec<3> L = sys.cell.length;
+  const Vec<3> Ldot = sys.cell.rate;
+
+  // Evaluates the gathered lanes, then adds their forces and torques in lane (= list) order,
+  // the same order as the scalar loop. Lanes of one grain i are consecutive: its force and
+  // torque are summed in registers and stored once.
+  auto flush = [&] {
+    if (n == 0) return;
+    for (std::size_t l = n; l < (n + 7) / 8 * 8; ++l) {  // padding: copies of lane 0, at rest
+      b.rx[l] = b.rx[0]; b.ry[l] = b.ry[0]; b.rz[l] = b.rz[0];
+      b.rad_i[l] = b.rad_i[0]; b.rad_j[l] = b.rad_j[0];
+      b.mass_i[l] = b.mass_i[0]; b.mass_j[l] = b.mass_j[0];
+      b.vx[l] = b.vy[l] = b.vz[l] = 0;
+      b.wix[l] = b.wiy[l] = b.wiz[l] = b.wjx[l] = b.wjy[l] = b.wjz[l] = 0;
+      b.tx[l] = b.ty[l] = b.tz[l] = 0;
+      b.n_old[l] = 0;
+    }
+    evaluate(c, b, n, dt, batch_sums);
+    // Raw pointers: the compiler then knows the arrays do not move during the loop.
+    double* force = p.force.data()->data();
+    double* torque = p.torque.data()->data();
+    ContactState<3>* states = &sys.contacts.state(0);
+    for (std::size_t l = 0; l < n; ++l) {
+      const std::size_t i = lane_i[l], j = lane_j[l];
+      if (b.exact[l]) {
+        // Off the batch's path: the scalar law, from the untouched stored state.
+        const Vec<3> r_ij(b.rx[l], b.ry[l], b.rz[l]);
+        scalar_pair<3>(sys, law, i, j, Vec<3>(p.position[j] - p.position[i]), r_ij, lane_slot[l],
+                       dt, sums);
+        continue;
+      }
+      ContactState<3>& st = states[lane_slot[l]];
+      st.normal_force = b.n_old[l];
+      st.tangential_force = Vec<3>(b.tx[l], b.ty[l], b.tz[l]);
+      st.flags = (st.flags & ~static_cast<std::uint32_t>(kSliding | kDistant)) |
+                 (b.sliding[l] ? static_cast<std::uint32_t>(kSliding) : 0u);
+      ++st.age;
+      const double f[3] = {b.fx[l], b.fy[l], b.fz[l]};
+      const double tj[3] = {b.tjx[l], b.tjy[l], b.tjz[l]};
+      const double tq[3] = {b.tix[l], b.tiy[l], b.tiz[l]};
+      for (int a = 0; a < 3; ++a) {
+        force[3 * j + a] += f[a];
+        force[3 * i + a] -= f[a];
+        torque[3 * i + a] += tq[a];
+        torque[3 * j + a] += tj[a];
+      }
+    }
+    n = 0;
+  };
+
+  // Gathers the touching pairs. Every listed pair is written to lane n and n advances only if
+  // it touches: no branch to mispredict on the (random) contact/no-contact outcome (the two
+  // branches left, a contact that opens or one that forms, are rare and well predicted).
+  const auto& off = list.offsets();
+  const std::uint32_t* nb = list.neighbor_array().data();
+  // Raw pointers (contiguous x, y, z per grain): the compiler then knows they do not move.
+  const double* pos = p.position.data()->data();
+  const double* vel = p.velocity.data()->data();
+  const double* spin = p.angular_velocity.data()->data();
+  const double* radius = p.radius.data();
+  const double* mass = p.mass.data();
+  const double Lx = L[0], Ly = L[1], Lz = L[2], Ldx = Ldot[0], Ldy = Ldot[1], Ldz = Ldot[2];
+  const ContactState<3>* states = sys.contacts.size() > 0 ? &sys.contacts.state(0) : &kNoContact;
+  for (std::size_t i = 0; i < list.n_owned(); ++i) {
+    const double six = pos[3 * i], siy = pos[3 * i + 1], siz = pos[3 * i + 2];
+    const double vix = vel[3 * i], viy = vel[3 * i + 1], viz = vel[3 * i + 2];
+    const double wix = spin[3 * i], wiy = spin[3 * i + 1], wiz = spin[3 * i + 2];
+    const double ri = radius[i], mi = mass[i];
+    for (std::size_t k = off[i]; k < off[i + 1]; ++k) {
+      const std::size_t j = nb[k];
+      const double dsx = pos[3 * j] - six, dsy = pos[3 * j + 1] - siy, dsz = pos[3 * j + 2] - siz;
+      const double rx = Lx * dsx, ry = Ly * dsy, rz = Lz * dsz;
+      const double rj = radius[j];
+      const double reach = ri + rj;
+      const bool touching = rx * rx + ry * ry + rz * rz < reach * reach;
+      std::ptrdiff_t slot = slot_[k];
+      // One branch, taken only when a contact opens or forms (rare, well predicted): a test
+      // of `touching` alone would be mispredicted on a good part of the pairs.
+      if (__builtin_expect(touching != (slot >= 0), 0)) {
+        if (!touching) {
+          // Out of reach: a contact that was there has ended; its history is forgotten.
+          sys.contacts.state(static_cast<std::size_t>(slot)) = ContactState<3>{};
+          slot_[k] = slot = -1;  // (the entry is erased at the next compaction)
+        } else {
+          slot = static_cast<std::ptrdiff_t>(
+              sys.contacts.insert(ContactKey{p.id[i], p.id[j]}, ContactState<3>{}));
+          slot_[k] = slot;
+          states = &sys.contacts.state(0);  // the store may have grown
+        }
+      }
+      // A pair out of contact reads some valid history (its lane is discarded): index
+      // max(slot, 0) of the store, or kNoContact while the store is empty; no branch.
+      const ContactState<3>& st = states[std::max<std::ptrdiff_t>(slot, 0)];
+      // The histories lie in list order (bind()): fetch a few contacts ahead, which the
+      // hardware prefetcher, busy with the batch's streams, does not always do.
+      __builtin_prefetch(&st + 8);
+      b.rx[n] = rx; b.ry[n] = ry; b.rz[n] = rz;
+      b.rad_i[n] = ri; b.rad_j[n] = rj;
+      b.mass_i[n] = mi; b.mass_j[n] = mass[j];
+      // Relative velocity, with the affine part of the cell deformation Ldot (s_j - s_i).
+      b.vx[n] = (vel[3 * j] + Ldx * dsx) - vix;
+      b.vy[n] = (vel[3 * j + 1] + Ldy * dsy) - viy;
+      b.vz[n] = (vel[3 * j + 2] + Ldz * dsz) - viz;
+      b.wix[n] = wix; b.wiy[n] = wiy; b.wiz[n] = wiz;
+      b.wjx[n] = spin[3 * j]; b.wjy[n] = spin[3 * j + 1]; b.wjz[n] = spin[3 * j + 2];
+      b.tx[n] = st.tangential_force[0]; b.ty[n] = st.tangential_force[1]; b.tz[n] = st.tangential_force[2];
+      b.n_old[n] = st.normal_force;
+      lane_i[n] = static_cast<std::uint32_t>(i);
+      lane_j[n] = static_cast<std::uint32_t>(j);
+      lane_slot[n] = static_cast<std::size_t>(slot);
+      n += touching ? 1 : 0;
+      if (n == cap) flush();
+    }
+  }
+  flush();
+  for (int a = 0; a < 3; ++a)
+    for (int bb = 0; bb < 3; ++bb) {
+      sums.virial(a, bb) += batch_sums.virial[3 * a + bb];
+      sums.virial_elastic(a, bb) += batch_sums.virial_elastic[3 * a + bb];
+    }
+  sums.max_overlap = std::max(sums.max_overlap, batch_sums.max_overlap);
+  sums.interacting += batch_sums.contacts;
   return sums;
 }
 

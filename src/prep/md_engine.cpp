@@ -1,6 +1,7 @@
 #include "granpack/prep/md_engine.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -23,7 +24,7 @@ MdEngine<dim>::MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law,
   for (std::size_t i = 0; i < ctx.system.particles.n_owned(); ++i)
     r = std::max(r, ctx.system.particles.radius[i]);
   max_radius_ = global_max(ctx.world, r);
-  rebuild(true);
+  rebuild();
   if (ctx.resume_mid_step) {
     // Restart inside a stage: the checkpoint was taken in the middle of a step, right after
     // a canonical rebuild like the one above; finish that step as the interrupted run did.
@@ -34,17 +35,22 @@ MdEngine<dim>::MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law,
   }
 }
 
-template <int dim> void MdEngine<dim>::rebuild(bool canonical) {
+template <int dim> void MdEngine<dim>::rebuild() {
   auto& sys = ctx_.system;
   {
     ScopedPhase t(timers_.comm);
     sys.particles.clear_ghosts();
     migrate(sys, *ctx_.decomposition);
-    // Grains in id order: every later sum (forces, virial, reductions) then follows an order
-    // that a restarted run reproduces from the checkpoint alone.
-    if (canonical) sys.particles.sort_owned_by_id();
     // Ghost layer: every grain that can come within reach of ours before the next rebuild.
     const double cutoff = 2 * max_radius_ + law_.interaction_range() + settings_.skin;
+    // Grains in a canonical spatial order (bins of about the list's cutoff, then id): the
+    // pair loop then finds a grain's neighbours close in memory (docs/performance.md), and
+    // every later sum (forces, virial, reductions) follows an order that depends on the
+    // positions and ids only, which a restarted run reproduces from its checkpoint.
+    std::array<std::size_t, dim> bins;
+    for (int a = 0; a < dim; ++a)
+      bins[a] = static_cast<std::size_t>(std::max(1.0, std::floor(sys.cell.length[a] / cutoff)));
+    sys.particles.sort_owned_spatially(bins);
     halo_.borders(sys.particles, *ctx_.decomposition, Vec<dim>::Constant(cutoff).cwiseQuotient(sys.cell.length));
   }
   ScopedPhase t(timers_.neighbor);
@@ -141,11 +147,11 @@ template <int dim> void MdEngine<dim>::step() {
   // A checkpoint inside a stage needs the stage's state (its frame); stages without one
   // checkpoint at their end (run_deck).
   if ((bits & kRequestCheckpoint) && !ctx_.frames.empty()) {
-    rebuild(true);
+    rebuild();
     ctx_.checkpointer->write(ctx_, true);
     ctx_.checkpointer->stop_if_requested(bits, sys.step);
   } else if (bits & kRequestRebuild) {
-    rebuild(false);
+    rebuild();
   } else {
     ScopedPhase t(timers_.comm);
     halo_.forward(p, *ctx_.decomposition);

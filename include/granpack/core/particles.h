@@ -7,6 +7,7 @@
 //  - velocity is the fluctuating velocity L.ds/dt in m/s (the affine part dL/dt.s is not
 //    included): it is what enters the kinetic stress of [AR] eq. (7)-(8).
 //  - angular_velocity/torque have rot_dim<dim> components (1 in 2D, 3 in 3D).
+#include <array>
 #include <cassert>
 #include <cstddef>
 #include <vector>
@@ -53,9 +54,12 @@ public:
   /// Removes the owned particles at the given indices (any order); ghosts must be cleared.
   /// Order of the remaining particles is not preserved (swap with last).
   void remove_owned(std::vector<std::size_t> indices);
-  /// Puts the owned particles in increasing id order (ghosts must be cleared): a canonical
-  /// order, so that a restarted run sums forces in the same order as the interrupted one.
-  void sort_owned_by_id();
+  /// Puts the owned particles (ghosts must be cleared) in a canonical order that keeps
+  /// neighbours close in memory: by the bin, on a grid of bins[a] slices per axis (row-major,
+  /// the last axis fastest), of their scaled position, then by id. It is a function of the
+  /// positions and ids alone, so a restarted run that reads them from a checkpoint sums
+  /// forces in the same order as the interrupted run; all-ones bins give plain id order.
+  void sort_owned_spatially(const std::array<std::size_t, dim>& bins);
   Particle<dim> get(std::size_t i) const;
   void set(std::size_t i, const Particle<dim>& p);
   /// Zeroes force and torque of every particle (owned and ghost).

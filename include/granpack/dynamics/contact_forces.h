@@ -10,10 +10,12 @@
 // MPI-free.
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "granpack/contact/contact_law.h"
 #include "granpack/core/system.h"
+#include "granpack/dynamics/hertz_mindlin_batch.h"
 #include "granpack/neighbor/verlet_list.h"
 
 namespace granpack {
@@ -51,7 +53,16 @@ public:
   void for_each_contact(const System<dim>& sys, const VerletList<dim>& list, F&& f) const;
 
 private:
+  /// compute() for the laws HertzMindlinBatch evaluates (3D, no cohesion or rolling): the
+  /// touching pairs are gathered into batches, evaluated several per instruction, and their
+  /// results added in list order.
+  ForceSums<dim> compute_batched(System<dim>& sys, const VerletList<dim>& list,
+                                 const ContactLaw<dim>& law, const HertzMindlinConstants& c,
+                                 double dt)
+    requires(dim == 3);
+
   std::vector<std::ptrdiff_t> slot_;  ///< per listed pair: index in the ContactStore or -1
+  std::unique_ptr<HertzMindlinBatch> batch_;  ///< scratch of compute_batched (~40 kB)
 };
 
 template <int dim>

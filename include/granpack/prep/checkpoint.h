@@ -10,7 +10,8 @@
 //  * between stages ("boundary"): nothing to resume inside a stage;
 //  * inside an MD stage, in the middle of a time step, right after a forced neighbour
 //    rebuild (md_engine.h): positions are drifted, velocities half-kicked, forces not yet
-//    computed. The rebuild puts every rank's grains in id order, so the restarted run, which
+//    computed. The rebuild puts every rank's grains in a canonical order (spatial bins, then id:
+//    a function of the stored positions and ids), so the restarted run, which
 //    performs the same rebuild on the stored state, repeats the interrupted run bit for bit
 //    on the same rank count.
 #include <mpi.h>

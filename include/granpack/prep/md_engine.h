@@ -76,8 +76,8 @@ public:
   MdSettings<dim>& settings() { return settings_; }
 
 private:
-  /// canonical: also put the owned grains in id order (engine start, checkpoints).
-  void rebuild(bool canonical);
+  /// Migration, canonical (spatial) order of the owned grains, halo, Verlet list.
+  void rebuild();
   /// Second half of a step: forces, sanity, half-kick, time. Also completes the step a
   /// checkpoint interrupted, on restart.
   void finish_step();

@@ -1,0 +1,211 @@
+#include "granpack/dynamics/hertz_mindlin_batch.h"
+
+#include <algorithm>
+#include <cmath>
+#include <variant>
+
+#include "granpack/core/error.h"
+
+namespace granpack {
+
+std::optional<HertzMindlinConstants> HertzMindlinConstants::of(const ContactLaw<3>& law) {
+  if (law.cohesion || law.rolling || !law.tangential.proportional_to_normal()) return std::nullopt;
+  HertzMindlinConstants c;
+  if (const auto* hz = std::get_if<HertzNormal>(&law.normal))
+    c.e_tilde = hz->e_tilde;
+  else
+    c.linear_k_n = std::get<LinearNormal>(law.normal).k_n;
+  c.zeta = law.damping.zeta;
+  c.k_t_ratio = law.tangential.value;
+  c.walton = law.tangential.walton_rescaling;
+  c.mu = law.friction.mu;
+  return c;
+}
+
+namespace {
+
+// The loop body follows ContactLaw<3>::force line by line (contact_law.h, tangential.h,
+// normal_elasticity.h); the branches of the scalar law become selects, and the branches the
+// batch does not take (large angles, large unloading, no overlap) set `exact`.
+// Compiled once per instruction set (target_clones below): the default build stays portable
+// (SSE2) and still runs 4- or 8-wide on CPUs with AVX2 or AVX-512.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define GRANPACK_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define GRANPACK_SIMD_CLONES
+#endif
+
+GRANPACK_SIMD_CLONES
+void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t n,
+                    std::size_t n_valid, double dt, HertzMindlinSums& out) {
+  // Uniform choices become arithmetic, so that the loop body has no control flow:
+  // K_N = Ẽ sqrt(R* h) + K_lin (one of the two is zero), N^e = (2/3 or 1) K_N h; ζ = 0 gives
+  // a zero damping coefficient; μ = +inf never slides (t2 > inf is false).
+  const bool hertz = c.e_tilde > 0;
+  const double e_tilde = c.e_tilde, k_lin = hertz ? 0.0 : c.linear_k_n;
+  const double n_factor = hertz ? 2.0 / 3.0 : 1.0;
+  const double two_zeta = 2.0 * c.zeta;
+  const double k_t_ratio = c.k_t_ratio, mu = c.mu;
+  const bool walton = c.walton && hertz;  // the linear law's stiffness ratio is 1
+  const double half_dt = 0.5 * dt;
+  // The sums, one variable each so that they vectorise as reductions (lane-wise partial
+  // sums, combined at the end: a fixed order for a given batch and instruction set).
+  double v00 = 0, v01 = 0, v02 = 0, v10 = 0, v11 = 0, v12 = 0, v20 = 0, v21 = 0, v22 = 0;
+  double e00 = 0, e01 = 0, e02 = 0, e10 = 0, e11 = 0, e12 = 0, e20 = 0, e21 = 0, e22 = 0;
+  double max_overlap = 0;
+  long count = 0;
+#pragma omp simd reduction(+ : v00, v01, v02, v10, v11, v12, v20, v21, v22, e00, e01, e02, e10, \
+                               e11, e12, e20, e21, e22, count) reduction(max : max_overlap)
+  for (std::size_t l = 0; l < n; ++l) {
+    // Geometry (make_pair_geometry).
+    const double rx = b.rx[l], ry = b.ry[l], rz = b.rz[l];
+    const double ri = b.rad_i[l], rj = b.rad_j[l];
+    const double d = std::sqrt(rx * rx + ry * ry + rz * rz);
+    const double nx = rx / d, ny = ry / d, nz = rz / d;
+    const double h = ri + rj - d;
+    const double r_eff = ri * rj / (ri + rj);
+    const double m_eff = b.mass_i[l] * b.mass_j[l] / (b.mass_i[l] + b.mass_j[l]);
+    const bool touching = h > 0;
+    const double hp = touching ? h : 0.0;  // keeps the padding and flagged lanes finite
+
+    // Branch vectors to the middle of the overlap: b_i = (R_i - h/2) n, b_j = -(R_j - h/2) n.
+    const double ci = ri - 0.5 * h, cj = -(rj - 0.5 * h);
+    const double bix = ci * nx, biy = ci * ny, biz = ci * nz;
+    const double bjx = cj * nx, bjy = cj * ny, bjz = cj * nz;
+
+    // Relative velocity of j's contact point with respect to i's.
+    const double vx = b.vx[l], vy = b.vy[l], vz = b.vz[l];
+    const double wix = b.wix[l], wiy = b.wiy[l], wiz = b.wiz[l];
+    const double wjx = b.wjx[l], wjy = b.wjy[l], wjz = b.wjz[l];
+    const double dvx = vx + (wjy * bjz - wjz * bjy) - (wiy * biz - wiz * biy);
+    const double dvy = vy + (wjz * bjx - wjx * bjz) - (wiz * bix - wix * biz);
+    const double dvz = vz + (wjx * bjy - wjy * bjx) - (wix * biy - wiy * bix);
+    const double dv_n = nx * dvx + ny * dvy + nz * dvz;
+    const double h_dot = -dv_n;
+    const double dtx = dvx - dv_n * nx, dty = dvy - dv_n * ny, dtz = dvz - dv_n * nz;
+
+    // Normal elasticity and damping.
+    const double k_n = e_tilde * std::sqrt(r_eff * hp) + k_lin;
+    const double n_el = n_factor * k_n * hp;
+    const double n_visc = two_zeta * std::sqrt(m_eff * k_n) * h_dot;
+
+    // Rotation of the contact over the step (contact_rotation): rolling n x dn + pivoting.
+    const double vn = nx * vx + ny * vy + nz * vz;
+    const double sc = dt / d;
+    const double dnx = (vx - vn * nx) * sc, dny = (vy - vn * ny) * sc, dnz = (vz - vn * nz) * sc;
+    const double piv = half_dt * (nx * (wix + wjx) + ny * (wiy + wjy) + nz * (wiz + wjz));
+    const double thx = (ny * dnz - nz * dny) + piv * nx;
+    const double thy = (nz * dnx - nx * dnz) + piv * ny;
+    const double thz = (nx * dny - ny * dnx) + piv * nz;
+
+    // Transport of T (transport_tangential, small-angle series).
+    const double t0x = b.tx[l], t0y = b.ty[l], t0z = b.tz[l];
+    const double mag2 = t0x * t0x + t0y * t0y + t0z * t0z;
+    const double x2 = thx * thx + thy * thy + thz * thz;
+    const double cs = 1.0 - x2 * (1.0 / 2.0 - x2 * (1.0 / 24.0));
+    const double s_over_x = 1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0));
+    const double omc_over_x2 = 0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0));
+    const double th_t = omc_over_x2 * (thx * t0x + thy * t0y + thz * t0z);
+    double rx2 = cs * t0x + s_over_x * (thy * t0z - thz * t0y) + th_t * thx;
+    double ry2 = cs * t0y + s_over_x * (thz * t0x - thx * t0z) + th_t * thy;
+    double rz2 = cs * t0z + s_over_x * (thx * t0y - thy * t0x) + th_t * thz;
+    const double rn = nx * rx2 + ny * ry2 + nz * rz2;
+    rx2 -= rn * nx;
+    ry2 -= rn * ny;
+    rz2 -= rn * nz;
+    const double rn2 = rx2 * rx2 + ry2 * ry2 + rz2 * rz2;
+    const double restore = rn2 > 0 ? std::sqrt(mag2 / (rn2 > 0 ? rn2 : 1.0)) : 0.0;
+    double tx = mag2 == 0 ? t0x : rx2 * restore;
+    double ty = mag2 == 0 ? t0y : ry2 * restore;
+    double tz = mag2 == 0 ? t0z : rz2 * restore;
+
+    // Walton: N^e decreased, T scaled by K_N(N)/K_N(N_old) = (N/N_old)^{1/3}.
+    const double n_old = b.n_old[l];
+    const bool unloading = walton & (n_el < n_old);
+    const double xw = n_el / (unloading ? n_old : 1.0) - 1.0;
+    const double ratio =
+        n_el > 0 ? 1.0 + xw * (1.0 / 3.0 - xw * (1.0 / 9.0 - xw * (5.0 / 81.0 - xw * (10.0 / 243.0 - xw * (22.0 / 729.0)))))
+                 : 0.0;
+    const double scale = unloading ? ratio : 1.0;
+    tx *= scale;
+    ty *= scale;
+    tz *= scale;
+
+    // Elastic increment, then Coulomb on N^e.
+    const double kdt = (k_n > 0 ? k_t_ratio * k_n : 0.0) * dt;
+    tx -= kdt * dtx;
+    ty -= kdt * dty;
+    tz -= kdt * dtz;
+    const double limit = mu * n_el;
+    const double t2 = tx * tx + ty * ty + tz * tz;
+    const bool slide = t2 > limit * limit;
+    const double cut = limit > 0 ? limit / std::sqrt(t2 > 0 ? t2 : 1.0) : 0.0;
+    tx = slide ? tx * cut : tx;
+    ty = slide ? ty * cut : ty;
+    tz = slide ? tz * cut : tz;
+
+    // Forces and moments.
+    const double n_tot = n_el + n_visc + 0.0;
+    const double fx = n_tot * nx + tx, fy = n_tot * ny + ty, fz = n_tot * nz + tz;
+    b.fx[l] = fx;
+    b.fy[l] = fy;
+    b.fz[l] = fz;
+    b.tjx[l] = bjy * fz - bjz * fy;
+    b.tjy[l] = bjz * fx - bjx * fz;
+    b.tjz[l] = bjx * fy - bjy * fx;
+    b.tix[l] = biy * (-fz) - biz * (-fy);
+    b.tiy[l] = biz * (-fx) - bix * (-fz);
+    b.tiz[l] = bix * (-fy) - biy * (-fx);
+    b.tx[l] = tx;
+    b.ty[l] = ty;
+    b.tz[l] = tz;
+    b.n_old[l] = n_el;
+    b.overlap[l] = h;
+    b.sliding[l] = slide ? 1 : 0;
+    const bool big_angle = (mag2 != 0) & !(x2 < 1e-6);
+    const bool big_unload = unloading & (n_el > 0) & !(std::abs(xw) < 1e-3);
+    const bool exact = !touching | big_angle | big_unload;
+    b.exact[l] = exact ? 1 : 0;
+
+    // This lane's share of the sums: none for padding and flagged lanes.
+    const double w = (l < n_valid) & !exact ? 1.0 : 0.0;
+    const double wfx = w * fx, wfy = w * fy, wfz = w * fz;
+    v00 += wfx * rx; v01 += wfx * ry; v02 += wfx * rz;
+    v10 += wfy * rx; v11 += wfy * ry; v12 += wfy * rz;
+    v20 += wfz * rx; v21 += wfz * ry; v22 += wfz * rz;
+    const double ex = w * (n_el * nx + tx), ey = w * (n_el * ny + ty), ez = w * (n_el * nz + tz);
+    e00 += ex * rx; e01 += ex * ry; e02 += ex * rz;
+    e10 += ey * rx; e11 += ey * ry; e12 += ey * rz;
+    e20 += ez * rx; e21 += ez * ry; e22 += ez * rz;
+    count += w > 0 ? 1 : 0;
+    const double rel = w * hp / (ri < rj ? ri : rj);
+    max_overlap = rel > max_overlap ? rel : max_overlap;
+  }
+  const double v[9] = {v00, v01, v02, v10, v11, v12, v20, v21, v22};
+  const double e[9] = {e00, e01, e02, e10, e11, e12, e20, e21, e22};
+  for (int k = 0; k < 9; ++k) {
+    out.virial[k] = v[k];
+    out.virial_elastic[k] = e[k];
+  }
+  out.max_overlap = max_overlap;
+  out.contacts = count;
+}
+
+}  // namespace
+
+void evaluate(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t n, double dt,
+              HertzMindlinSums& sums) {
+  // Whole vectors only (the caller pads): every lane then goes through the same instructions.
+  const std::size_t padded = (n + 7) / 8 * 8;
+  GRANPACK_ASSERT(padded <= HertzMindlinBatch::kCapacity, "batch overflow");
+  HertzMindlinSums s;
+  evaluate_lanes(c, b, padded, n, dt, s);
+  for (int k = 0; k < 9; ++k) {
+    sums.virial[k] += s.virial[k];
+    sums.virial_elastic[k] += s.virial_elastic[k];
+  }
+  sums.max_overlap = std::max(sums.max_overlap, s.max_overlap);
+  sums.contacts += s.contacts;
+}
+
+}  // namespace granpack
