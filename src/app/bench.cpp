@@ -239,6 +239,9 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   t.forces -= setup.forces;
 
   double phases[4] = {t.forces, t.neighbor, t.comm, t.integrate};
+  // Load balance: the slowest rank's force time over the mean (the others wait for it in the
+  // halo exchange, which the breakdown counts as communication).
+  const double forces_max = global_max(world, t.forces);
   MPI_Allreduce(MPI_IN_PLACE, phases, 4, MPI_DOUBLE, MPI_SUM, world);
   for (double& x : phases) x /= ranks;
   const double rss_peak = peak_resident_bytes();
@@ -263,7 +266,7 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       "  wall %.3f s, %.4g s/step, %lld list rebuilds, %lld contacts at the end, P_end = %.6g Pa\n"
       "  particle-steps/s per rank: %.4g\n"
       "  breakdown (mean over ranks): forces %.1f %%, neighbours %.1f %%, communication %.1f %%, "
-      "integration %.1f %%, other %.1f %%\n"
+      "integration %.1f %%, other %.1f %%; force time of the slowest rank / mean %.3f\n"
       "  memory: peak RSS %.1f MiB per rank (max), %.0f bytes per grain above the start-up "
       "footprint\n"
       "  ghosts: %.0f in all (largest rank: %.0f for %.0f owned), halo traffic %.3g MB per step "
@@ -275,7 +278,8 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       wall / double(o.steps), static_cast<long long>(engine.rebuilds() - rebuilds0),
       static_cast<long long>(obs.contacts), pressure_end, pstep, 100 * phases[0] / wall,
       100 * phases[1] / wall, 100 * phases[2] / wall, 100 * phases[3] / wall,
-      100 * (wall - phases[0] - phases[1] - phases[2] - phases[3]) / wall, rss_max / 1048576.0,
+      100 * (wall - phases[0] - phases[1] - phases[2] - phases[3]) / wall,
+      phases[0] > 0 ? forces_max / phases[0] : 1.0, rss_max / 1048576.0,
       grown / double(n), ghosts, ghosts_max, owned_max, ghosts_max * 15 * 8 / 1e6);
   std::string report = root ? std::string(buf) : std::string();
   if (o.json && root) {
@@ -283,12 +287,12 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
     std::snprintf(buf, sizeof buf,
                   "{\"code\": \"granpack\", \"n\": %lld, \"ranks\": %d, \"steps\": %lld, \"dt\": %.17g, "
                   "\"skin\": %.17g, \"wall\": %.6g, \"particle_steps_per_s_per_rank\": %.6g, "
-                  "\"forces\": %.6g, \"neighbor\": %.6g, \"comm\": %.6g, \"integrate\": %.6g, "
+                  "\"forces\": %.6g, \"forces_max\": %.6g, \"neighbor\": %.6g, \"comm\": %.6g, \"integrate\": %.6g, "
                   "\"rebuilds\": %lld, \"static_pressure\": %.17g, \"static_contacts\": %lld, "
                   "\"rss_max_bytes\": %.6g, \"bytes_per_grain\": %.6g, \"ghosts\": %.0f, "
                   "\"ghosts_max\": %.0f, \"owned_max\": %.0f}\n",
                   static_cast<long long>(n), ranks, static_cast<long long>(o.steps), s.dt, s.skin,
-                  wall, pstep, phases[0], phases[1], phases[2], phases[3],
+                  wall, pstep, phases[0], forces_max, phases[1], phases[2], phases[3],
                   static_cast<long long>(engine.rebuilds() - rebuilds0), static_pressure,
                   static_cast<long long>(static_contacts), rss_max, grown / double(n), ghosts,
                   ghosts_max, owned_max);

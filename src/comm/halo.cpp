@@ -21,21 +21,33 @@ std::vector<double> sendrecv(MPI_Comm comm, const std::vector<double>& out, int 
   return in;
 }
 
-/// Exchange of a message whose length the receiver knows (forward/reverse: the ghost lists
-/// are fixed between rebuilds): one MPI_Sendrecv, or a copy when both partners are this rank
-/// (one rank along the axis: the periodic image of our own grains).
-void exchange_known(MPI_Comm comm, const std::vector<double>& out, std::vector<double>& in,
-                    std::size_t n_in, int to, int from) {
+/// The two exchanges of one axis (towards -1 and +1), whose lengths the receivers know
+/// (forward/reverse: the ghost lists are fixed between rebuilds). They are independent (both
+/// read what existed before the axis began), so they run at once: both receives and sends
+/// posted, one wait, one latency instead of two. An exchange whose partners are both this
+/// rank (one rank along the axis: the periodic image of our own grains) is a buffer swap.
+void exchange_axis(MPI_Comm comm, std::vector<double> (&out)[2], std::vector<double> (&in)[2],
+                   const std::size_t (&n_in)[2], const int (&to)[2], const int (&from)[2], int tag) {
   int me = 0;
   MPI_Comm_rank(comm, &me);
-  if (to == me && from == me) {
-    GRANPACK_CHECK(out.size() == n_in, "halo: ghost count changed");
-    in.assign(out.begin(), out.end());
-    return;
+  MPI_Request req[4];
+  int n_req = 0;
+  for (int q = 0; q < 2; ++q) {
+    if (to[q] == me && from[q] == me) {
+      GRANPACK_CHECK(out[q].size() == n_in[q], "halo: ghost count changed");
+      in[q].swap(out[q]);
+      continue;
+    }
+    in[q].resize(n_in[q]);
+    MPI_Irecv(in[q].data(), static_cast<int>(n_in[q]), MPI_DOUBLE, from[q], tag + q, comm,
+              &req[n_req++]);
   }
-  in.resize(n_in);
-  MPI_Sendrecv(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, to, 13, in.data(),
-               static_cast<int>(n_in), MPI_DOUBLE, from, 13, comm, MPI_STATUS_IGNORE);
+  for (int q = 0; q < 2; ++q) {
+    if (to[q] == me && from[q] == me) continue;
+    MPI_Isend(out[q].data(), static_cast<int>(out[q].size()), MPI_DOUBLE, to[q], tag + q, comm,
+              &req[n_req++]);
+  }
+  MPI_Waitall(n_req, req, MPI_STATUSES_IGNORE);
 }
 }  // namespace
 
@@ -79,46 +91,65 @@ void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, cons
 
 template <int dim> void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
   constexpr int per = 2 * dim + rot_dim<dim>;
-  std::vector<double>& buf = out_;
-  std::vector<double>& in = in_;
-  for (const Swap& sw : swaps_) {
-    buf.resize(sw.send.size() * per);
-    double* o = buf.data();
-    for (std::size_t i : sw.send) {
-      for (int a = 0; a < dim; ++a) *o++ = p.position[i][a] + (a == sw.axis ? sw.shift : 0.0);
-      for (int a = 0; a < dim; ++a) *o++ = p.velocity[i][a];
-      for (int a = 0; a < rot_dim<dim>; ++a) *o++ = p.angular_velocity[i][a];
+  // swaps_ holds, per axis, the exchange towards -1 then the one towards +1 (borders()).
+  for (std::size_t s0 = 0; s0 < swaps_.size(); s0 += 2) {
+    std::size_t n_in[2];
+    int to[2], from[2];
+    for (int q = 0; q < 2; ++q) {
+      const Swap& sw = swaps_[s0 + q];
+      out_[q].resize(sw.send.size() * per);
+      double* o = out_[q].data();
+      for (std::size_t i : sw.send) {
+        for (int a = 0; a < dim; ++a) *o++ = p.position[i][a] + (a == sw.axis ? sw.shift : 0.0);
+        for (int a = 0; a < dim; ++a) *o++ = p.velocity[i][a];
+        for (int a = 0; a < rot_dim<dim>; ++a) *o++ = p.angular_velocity[i][a];
+      }
+      n_in[q] = sw.recv_count * per;
+      to[q] = sw.to;
+      from[q] = sw.from;
     }
-    exchange_known(d.comm(), buf, in, sw.recv_count * per, sw.to, sw.from);
-    std::size_t pos = 0;
-    for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
-      for (int a = 0; a < dim; ++a) p.position[g][a] = in[pos++];
-      for (int a = 0; a < dim; ++a) p.velocity[g][a] = in[pos++];
-      for (int a = 0; a < rot_dim<dim>; ++a) p.angular_velocity[g][a] = in[pos++];
+    exchange_axis(d.comm(), out_, in_, n_in, to, from, 30);
+    for (int q = 0; q < 2; ++q) {
+      const Swap& sw = swaps_[s0 + q];
+      const double* in = in_[q].data();
+      for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
+        for (int a = 0; a < dim; ++a) p.position[g][a] = *in++;
+        for (int a = 0; a < dim; ++a) p.velocity[g][a] = *in++;
+        for (int a = 0; a < rot_dim<dim>; ++a) p.angular_velocity[g][a] = *in++;
+      }
     }
   }
 }
 
 template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
   constexpr int per = dim + rot_dim<dim>;
-  std::vector<double>& buf = out_;
-  std::vector<double>& in = in_;
-  for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
-    const Swap& sw = *it;
-    buf.resize(sw.recv_count * per);
-    double* o = buf.data();
-    for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
-      for (int a = 0; a < dim; ++a) *o++ = p.force[g][a];
-      for (int a = 0; a < rot_dim<dim>; ++a) *o++ = p.torque[g][a];
-      p.force[g].setZero();
-      p.torque[g].setZero();
+  // Axes in reverse order (ghosts of later axes may be images of earlier axes' ghosts).
+  for (std::size_t s0 = swaps_.size(); s0 >= 2; s0 -= 2) {
+    std::size_t n_in[2];
+    int to[2], from[2];
+    for (int q = 0; q < 2; ++q) {
+      const Swap& sw = swaps_[s0 - 2 + q];
+      out_[q].resize(sw.recv_count * per);
+      double* o = out_[q].data();
+      for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
+        for (int a = 0; a < dim; ++a) *o++ = p.force[g][a];
+        for (int a = 0; a < rot_dim<dim>; ++a) *o++ = p.torque[g][a];
+        p.force[g].setZero();
+        p.torque[g].setZero();
+      }
+      // Back along the way they came: to the rank we received from.
+      n_in[q] = sw.send.size() * per;
+      to[q] = sw.from;
+      from[q] = sw.to;
     }
-    // Back along the way they came: to the rank we received from.
-    exchange_known(d.comm(), buf, in, sw.send.size() * per, sw.from, sw.to);
-    std::size_t pos = 0;
-    for (std::size_t i : sw.send) {
-      for (int a = 0; a < dim; ++a) p.force[i][a] += in[pos++];
-      for (int a = 0; a < rot_dim<dim>; ++a) p.torque[i][a] += in[pos++];
+    exchange_axis(d.comm(), out_, in_, n_in, to, from, 40);
+    for (int q = 1; q >= 0; --q) {  // +1 then -1, the order of the swaps reversed
+      const Swap& sw = swaps_[s0 - 2 + q];
+      const double* in = in_[q].data();
+      for (std::size_t i : sw.send) {
+        for (int a = 0; a < dim; ++a) p.force[i][a] += *in++;
+        for (int a = 0; a < rot_dim<dim>; ++a) p.torque[i][a] += *in++;
+      }
     }
   }
 }

@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "granpack/core/error.h"
+#include "granpack/core/simd_clones.h"
 
 namespace granpack {
 
@@ -27,13 +28,8 @@ namespace {
 // The loop body follows ContactLaw<3>::force line by line (contact_law.h, tangential.h,
 // normal_elasticity.h); the branches of the scalar law become selects, and the branches the
 // batch does not take (large angles, large unloading, no overlap) set `exact`.
-// Compiled once per instruction set (target_clones below): the default build stays portable
+// Compiled once per instruction set (GRANPACK_SIMD_CLONES): the default build stays portable
 // (SSE2) and still runs 4- or 8-wide on CPUs with AVX2 or AVX-512.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define GRANPACK_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define GRANPACK_SIMD_CLONES
-#endif
 
 GRANPACK_SIMD_CLONES
 void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t n,

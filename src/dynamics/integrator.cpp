@@ -1,28 +1,78 @@
 #include "granpack/dynamics/integrator.h"
 
-#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+
+#include "granpack/core/simd_clones.h"
 
 namespace granpack {
 
+namespace {
+/// x[d i + k] += (h / m[i]) y[d i + k] for grains i < n, components k < d.
+GRANPACK_SIMD_CLONES
+void kick_flat(double* x, const double* y, const double* m, std::size_t n, int d, double h) {
+  // One loop per component count, each with a fixed inner length the compiler unrolls.
+  auto run = [&]<int c>() {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double a = h / m[i];
+      for (int k = 0; k < c; ++k) x[c * i + k] += a * y[c * i + k];
+    }
+  };
+  if (d == 3)
+    run.template operator()<3>();
+  else if (d == 2)
+    run.template operator()<2>();
+  else
+    run.template operator()<1>();
+}
+}  // namespace
+
 template <int dim> void kick(ParticleStore<dim>& p, double h) {
-  // Flat arrays through raw pointers (x, y[, z] per grain): the compiler can then keep them
-  // in registers and vectorise; the arithmetic is the same as v += (h/m) F, ω += (h/I) M.
+  // v += (h/m) F, ω += (h/I) M over flat arrays (x, y[, z] per grain).
   constexpr int rd = rot_dim<dim>;
   static_assert(sizeof(Vec<dim>) == dim * sizeof(double) && sizeof(RotVec<dim>) == rd * sizeof(double));
   const std::size_t n = p.n_owned();
-  double* v = p.velocity.data()->data();
-  double* w = p.angular_velocity.data()->data();
-  const double* f = p.force.data()->data();
-  const double* t = p.torque.data()->data();
-  const double* m = p.mass.data();
-  const double* inertia = p.inertia.data();
-  for (std::size_t i = 0; i < n; ++i) {
-    const double a = h / m[i], b = h / inertia[i];
-    for (int k = 0; k < dim; ++k) v[dim * i + k] += a * f[dim * i + k];
-    for (int k = 0; k < rd; ++k) w[rd * i + k] += b * t[rd * i + k];
-  }
+  kick_flat(p.velocity.data()->data(), p.force.data()->data(), p.mass.data(), n, dim, h);
+  kick_flat(p.angular_velocity.data()->data(), p.torque.data()->data(), p.inertia.data(), n, rd, h);
 }
+
+namespace {
+/// q <- dq q renormalised, dq = (cw, sv u): the Hamilton product, q = (w, x, y, z).
+inline void rotate_quaternion(double* q, double cw, double sv, double ux, double uy, double uz) {
+  const double dx = sv * ux, dy = sv * uy, dz = sv * uz;
+  const double qw = q[0], qx = q[1], qy = q[2], qz = q[3];
+  const double rw = cw * qw - (dx * qx + dy * qy + dz * qz);
+  const double rx = cw * qx + qw * dx + (dy * qz - dz * qy);
+  const double ry = cw * qy + qw * dy + (dz * qx - dx * qz);
+  const double rz = cw * qz + qw * dz + (dx * qy - dy * qx);
+  const double inv = 1.0 / std::sqrt(rw * rw + rx * rx + ry * ry + rz * rz);
+  q[0] = rw * inv;
+  q[1] = rx * inv;
+  q[2] = ry * inv;
+  q[3] = rz * inv;
+}
+
+/// When every grain turns by less than 1e-3 rad (|u|² < 1e-6, u = ω dt/2: always, in MD),
+/// turns all their orientations by the series of dq and returns true; otherwise changes
+/// nothing and returns false. Branch-free over the grains: the compiler vectorises it (a
+/// grain at rest gets dq = 1 and its q renormalised, which leaves a unit q unchanged).
+GRANPACK_SIMD_CLONES
+bool turn_on_series(double* o, const double* w, std::size_t n, double hdt) {
+  double y2_max = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
+    y2_max = std::max(y2_max, ux * ux + uy * uy + uz * uz);
+  }
+  if (!(y2_max < 1e-6)) return false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
+    const double y2 = ux * ux + uy * uy + uz * uz;
+    rotate_quaternion(o + 4 * i, 1.0 - y2 * (1.0 / 2.0 - y2 * (1.0 / 24.0)),
+                      1.0 - y2 * (1.0 / 6.0 - y2 * (1.0 / 120.0)), ux, uy, uz);
+  }
+  return true;
+}
+}  // namespace
 
 template <int dim> void drift(ParticleStore<dim>& p, const Cell<dim>& cell, double dt) {
   const std::size_t n = p.n_owned();
@@ -39,32 +89,19 @@ template <int dim> void drift(ParticleStore<dim>& p, const Cell<dim>& cell, doub
     const double* w = p.angular_velocity.data()->data();
     double* o = p.orientation.data()->data();
     static_assert(sizeof(OrientVec<3>) == 4 * sizeof(double));
+    const double hdt = 0.5 * dt;
+    if (turn_on_series(o, w, n, hdt)) return;
     for (std::size_t i = 0; i < n; ++i) {
-      const double ux = 0.5 * dt * w[3 * i], uy = 0.5 * dt * w[3 * i + 1], uz = 0.5 * dt * w[3 * i + 2];
+      const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
       const double y2 = ux * ux + uy * uy + uz * uz;
       if (!(y2 > 0)) continue;
-      double cw, sv;  // cos y, sin(y)/y
       if (y2 < 1e-6) {
-        cw = 1.0 - y2 * (1.0 / 2.0 - y2 * (1.0 / 24.0));
-        sv = 1.0 - y2 * (1.0 / 6.0 - y2 * (1.0 / 120.0));
+        rotate_quaternion(o + 4 * i, 1.0 - y2 * (1.0 / 2.0 - y2 * (1.0 / 24.0)),
+                          1.0 - y2 * (1.0 / 6.0 - y2 * (1.0 / 120.0)), ux, uy, uz);
       } else {
         const double y = std::sqrt(y2);
-        cw = std::cos(y);
-        sv = std::sin(y) / y;
+        rotate_quaternion(o + 4 * i, std::cos(y), std::sin(y) / y, ux, uy, uz);
       }
-      const double dx = sv * ux, dy = sv * uy, dz = sv * uz;
-      double* q = o + 4 * i;  // (w, x, y, z)
-      const double qw = q[0], qx = q[1], qy = q[2], qz = q[3];
-      // Hamilton product dq * q
-      const double rw = cw * qw - (dx * qx + dy * qy + dz * qz);
-      const double rx = cw * qx + qw * dx + (dy * qz - dz * qy);
-      const double ry = cw * qy + qw * dy + (dz * qx - dx * qz);
-      const double rz = cw * qz + qw * dz + (dx * qy - dy * qx);
-      const double inv = 1.0 / std::sqrt(rw * rw + rx * rx + ry * ry + rz * rz);
-      q[0] = rw * inv;
-      q[1] = rx * inv;
-      q[2] = ry * inv;
-      q[3] = rz * inv;
     }
   } else {
     for (std::size_t i = 0; i < n; ++i) p.orientation[i][0] += dt * p.angular_velocity[i][0];

@@ -43,7 +43,8 @@ private:
   std::vector<Swap> swaps_;
   // Message buffers kept between steps: no allocation (and no page faults of fresh large
   // blocks) in forward()/reverse(), which run every step.
-  mutable std::vector<double> out_, in_;
+  // Two of each: the two exchanges of an axis run at once.
+  mutable std::vector<double> out_[2], in_[2];
 };
 
 extern template class Halo<2>;
