@@ -164,7 +164,8 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     b.overlap[l] = h;
     b.sliding[l] = slide ? 1 : 0;
     const bool big_angle = (mag2 != 0) & !(x2 < 1e-6);
-    const bool big_unload = unloading & (n_el > 0) & !(std::abs(xw) < 1e-3);
+    // (A zero T needs no rescaling: frictionless packings never leave the path here.)
+    const bool big_unload = unloading & (mag2 != 0) & (n_el > 0) & !(std::abs(xw) < 1e-3);
     const bool exact = !touching | big_angle | big_unload;
     b.exact[l] = exact ? 1 : 0;
 

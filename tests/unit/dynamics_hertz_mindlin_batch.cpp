@@ -220,7 +220,8 @@ TEST(HertzMindlinBatch, FlagsContactsOffItsPath) {
   for (auto& k : cases) k.state.age = 10;
   // 0: not overlapping; 1: a contact turning by 1e-2 rad in the step; 2: N^e halves in the
   // step (Walton's ratio outside its series); 3: N^e grows by a factor of 2 (no rescaling:
-  // on the path); 4: a large angle but no stored T (nothing to transport: on the path).
+  // on the path); 4: a large angle but no stored T (nothing to transport: on the path);
+  // 5: N^e halves but no stored T (nothing to rescale: on the path).
   cases[0].r *= (cases[0].ri + cases[0].rj + 1e-9) / cases[0].r.norm();
   for (const int l : {1, 4}) {  // spinning about n: pivoting 0.5 dt (w_i + w_j).n = 1e-2 rad
     const Vec<3> n = cases[l].r.normalized();
@@ -233,8 +234,9 @@ TEST(HertzMindlinBatch, FlagsContactsOffItsPath) {
     const auto geo = make_pair_geometry<3>(k.ri, k.rj, k.mi, k.mj, k.r);
     return normal_response(law.normal, geo.overlap, geo.effective_radius).force;
   };
-  cases[2].state.normal_force = 2 * n_of(cases[2]);
-  cases[2].state.tangential_force = Vec<3>::Zero();
+  cases[2].state.normal_force = 2 * n_of(cases[2]);  // (case 2 carries a T: kind 2)
+  cases[5].state.normal_force = 2 * n_of(cases[5]);
+  cases[5].state.tangential_force = Vec<3>::Zero();
   cases[3].state.normal_force = 0.5 * n_of(cases[3]);
   auto b = std::make_unique<HertzMindlinBatch>();
   fill(*b, cases);

@@ -109,8 +109,9 @@ template <int dim> struct ContactLaw {
     // Tangential: transport (App. B), Walton (App. A), increment (eq. 3), Coulomb.
     Vec<dim> t = transport_tangential<dim>(
         state.tangential_force, contact_rotation<dim>(g, v_ij, kin.w_i, kin.w_j, dt), n);
+    // (skipped for a zero T, e.g. without friction: the ratio may cost a cube root)
     if (tangential.walton_rescaling && tangential.proportional_to_normal() &&
-        nr.force < state.normal_force)
+        nr.force < state.normal_force && state.tangential_force.squaredNorm() > 0)
       t *= normal_stiffness_ratio(normal, nr.force, state.normal_force);
     const double k_t = tangential.stiffness(nr.stiffness);
     t -= (k_t * dt) * dv_t;
