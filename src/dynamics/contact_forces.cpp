@@ -126,26 +126,16 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys,
   if (!batch_) batch_ = std::make_unique<HertzMindlinBatch>();
   HertzMindlinBatch& b = *batch_;
   constexpr std::size_t cap = HertzMindlinBatch::kCapacity;
-  std::array<std::uint32_t, cap + 1> lane_i{}, lane_j{};
-  std::array<std::size_t, cap + 1> lane_slot{};
+  std::array<std::uint32_t, cap> lane_i{}, lane_j{};
+  std::array<std::size_t, cap> lane_slot{};
   std::size_t n = 0;
   const Vec<3> L = sys.cell.length;
   const Vec<3> Ldot = sys.cell.rate;
 
   // Evaluates the gathered lanes, then adds their forces and torques in lane (= list) order,
-  // the same order as the scalar loop. Lanes of one grain i are consecutive: its force and
-  // torque are summed in registers and stored once.
+  // the same order as the scalar loop.
   auto flush = [&] {
     if (n == 0) return;
-    for (std::size_t l = n; l < (n + 7) / 8 * 8; ++l) {  // padding: copies of lane 0, at rest
-      b.rx[l] = b.rx[0]; b.ry[l] = b.ry[0]; b.rz[l] = b.rz[0];
-      b.rad_i[l] = b.rad_i[0]; b.rad_j[l] = b.rad_j[0];
-      b.mass_i[l] = b.mass_i[0]; b.mass_j[l] = b.mass_j[0];
-      b.vx[l] = b.vy[l] = b.vz[l] = 0;
-      b.wix[l] = b.wiy[l] = b.wiz[l] = b.wjx[l] = b.wjy[l] = b.wjz[l] = 0;
-      b.tx[l] = b.ty[l] = b.tz[l] = 0;
-      b.n_old[l] = 0;
-    }
     evaluate(c, b, n, dt, batch_sums);
     // Raw pointers: the compiler then knows the arrays do not move during the loop.
     double* force = p.force.data()->data();

@@ -103,9 +103,8 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     const double t0x = b.tx[l], t0y = b.ty[l], t0z = b.tz[l];
     const double mag2 = t0x * t0x + t0y * t0y + t0z * t0z;
     const double x2 = thx * thx + thy * thy + thz * thz;
-    const double cs = 1.0 - x2 * (1.0 / 2.0 - x2 * (1.0 / 24.0));
-    const double s_over_x = 1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0));
-    const double omc_over_x2 = 0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0));
+    const SmallAngle sa = small_angle_series(x2);
+    const double cs = sa.cos_x, s_over_x = sa.sin_x_over_x, omc_over_x2 = sa.one_minus_cos_over_x2;
     const double th_t = omc_over_x2 * (thx * t0x + thy * t0y + thz * t0z);
     double rx2 = cs * t0x + s_over_x * (thy * t0z - thz * t0y) + th_t * thx;
     double ry2 = cs * t0y + s_over_x * (thz * t0x - thx * t0z) + th_t * thy;
@@ -124,9 +123,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     const double n_old = b.n_old[l];
     const bool unloading = walton & (n_el < n_old);
     const double xw = n_el / (unloading ? n_old : 1.0) - 1.0;
-    const double ratio =
-        n_el > 0 ? 1.0 + xw * (1.0 / 3.0 - xw * (1.0 / 9.0 - xw * (5.0 / 81.0 - xw * (10.0 / 243.0 - xw * (22.0 / 729.0)))))
-                 : 0.0;
+    const double ratio = n_el > 0 ? cbrt_one_plus_series(xw) : 0.0;
     const double scale = unloading ? ratio : 1.0;
     tx *= scale;
     ty *= scale;
@@ -197,9 +194,18 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
 
 void evaluate(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t n, double dt,
               HertzMindlinSums& sums) {
-  // Whole vectors only (the caller pads): every lane then goes through the same instructions.
+  // Whole vectors only: every lane then goes through the same instructions.
   const std::size_t padded = (n + 7) / 8 * 8;
   GRANPACK_ASSERT(padded <= HertzMindlinBatch::kCapacity, "batch overflow");
+  for (std::size_t l = n; l < padded; ++l) {  // padding: copies of lane 0, at rest
+    b.rx[l] = b.rx[0], b.ry[l] = b.ry[0], b.rz[l] = b.rz[0];
+    b.rad_i[l] = b.rad_i[0], b.rad_j[l] = b.rad_j[0];
+    b.mass_i[l] = b.mass_i[0], b.mass_j[l] = b.mass_j[0];
+    b.vx[l] = b.vy[l] = b.vz[l] = 0;
+    b.wix[l] = b.wiy[l] = b.wiz[l] = b.wjx[l] = b.wjy[l] = b.wjz[l] = 0;
+    b.tx[l] = b.ty[l] = b.tz[l] = 0;
+    b.n_old[l] = 0;
+  }
   HertzMindlinSums s;
   evaluate_lanes(c, b, padded, n, dt, s);
   for (int k = 0; k < 9; ++k) {

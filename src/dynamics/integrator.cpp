@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "granpack/contact/tangential.h"  // small_angle_series
 #include "granpack/core/simd_clones.h"
 
 namespace granpack {
@@ -67,8 +68,8 @@ bool turn_on_series(double* o, const double* w, std::size_t n, double hdt) {
   for (std::size_t i = 0; i < n; ++i) {
     const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
     const double y2 = ux * ux + uy * uy + uz * uz;
-    rotate_quaternion(o + 4 * i, 1.0 - y2 * (1.0 / 2.0 - y2 * (1.0 / 24.0)),
-                      1.0 - y2 * (1.0 / 6.0 - y2 * (1.0 / 120.0)), ux, uy, uz);
+    const SmallAngle a = small_angle_series(y2);
+    rotate_quaternion(o + 4 * i, a.cos_x, a.sin_x_over_x, ux, uy, uz);
   }
   return true;
 }
@@ -96,8 +97,8 @@ template <int dim> void drift(ParticleStore<dim>& p, const Cell<dim>& cell, doub
       const double y2 = ux * ux + uy * uy + uz * uz;
       if (!(y2 > 0)) continue;
       if (y2 < 1e-6) {
-        rotate_quaternion(o + 4 * i, 1.0 - y2 * (1.0 / 2.0 - y2 * (1.0 / 24.0)),
-                          1.0 - y2 * (1.0 / 6.0 - y2 * (1.0 / 120.0)), ux, uy, uz);
+        const SmallAngle a = small_angle_series(y2);
+        rotate_quaternion(o + 4 * i, a.cos_x, a.sin_x_over_x, ux, uy, uz);
       } else {
         const double y = std::sqrt(y2);
         rotate_quaternion(o + 4 * i, std::cos(y), std::sin(y) / y, ux, uy, uz);

@@ -75,6 +75,18 @@ inline RotVec<dim> contact_rotation(const PairGeometry<dim>& g, const Vec<dim>& 
   return theta;
 }
 
+/// cos x, sin(x)/x and (1 - cos x)/x² from x² by their Taylor series to x⁴: for x² < 1e-6
+/// (always, for the angles of one MD step: ~1e-7..1e-4 rad) the truncation is < x⁶/720
+/// < 2e-21, far below rounding, and neither the angle's square root nor sin/cos is needed.
+/// Shared by the transport of T, the batched contact kernel and the orientation update.
+struct SmallAngle {
+  double cos_x, sin_x_over_x, one_minus_cos_over_x2;
+};
+inline SmallAngle small_angle_series(double x2) {
+  return {1.0 - x2 * (1.0 / 2.0 - x2 * (1.0 / 24.0)), 1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0)),
+          0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0))};
+}
+
 /// Rotates t by the rotation vector theta (Rodrigues; in 2D an angle about z), then removes
 /// any normal component left with respect to n and restores |t|: T stays exactly tangent and
 /// its magnitude is not changed by transport.
@@ -83,18 +95,17 @@ inline Vec<dim> transport_tangential(const Vec<dim>& t, const RotVec<dim>& theta
                                      const Vec<dim>& n) {
   const double magnitude2 = t.squaredNorm();
   if (magnitude2 == 0) return t;
-  // The angles are ω dt ~ 1e-7..1e-4 rad in MD: below 1e-3 rad, cos x, sin(x)/x and
-  // (1 - cos x)/x² are evaluated by their Taylor series to x⁴ (truncation < x⁶/720 < 2e-21,
-  // far below rounding), which needs neither the angle's square root nor sin/cos: this
-  // function was ~15 % of a dense-packing step with std::sincos (docs/performance.md).
+  // Below 1e-3 rad, small_angle_series: with std::sincos this function was ~15 % of a
+  // dense-packing step (docs/performance.md).
   Vec<dim> r;
   if constexpr (dim == 3) {
     const double x2 = theta.squaredNorm();
     double c, s_over_x, omc_over_x2;  // cos x, sin(x)/x, (1 - cos x)/x²
     if (x2 < 1e-6) {
-      c = 1.0 - x2 * (1.0 / 2.0 - x2 * (1.0 / 24.0));
-      s_over_x = 1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0));
-      omc_over_x2 = 0.5 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0));
+      const SmallAngle a = small_angle_series(x2);
+      c = a.cos_x;
+      s_over_x = a.sin_x_over_x;
+      omc_over_x2 = a.one_minus_cos_over_x2;
     } else {
       const double angle = std::sqrt(x2);
       c = std::cos(angle);
@@ -106,8 +117,9 @@ inline Vec<dim> transport_tangential(const Vec<dim>& t, const RotVec<dim>& theta
     const double x = theta[0], x2 = x * x;
     double c, s;
     if (x2 < 1e-6) {
-      c = 1.0 - x2 * (1.0 / 2.0 - x2 * (1.0 / 24.0));
-      s = x * (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0)));
+      const SmallAngle a = small_angle_series(x2);
+      c = a.cos_x;
+      s = x * a.sin_x_over_x;
     } else {
       c = std::cos(x);
       s = std::sin(x);

@@ -35,7 +35,7 @@ struct HertzMindlinConstants {
 };
 
 /// One batch of contacts: inputs gathered by the caller, outputs written by evaluate().
-/// Field arrays are 64-byte aligned; lanes past `size` are padding (any finite values).
+/// Field arrays are 64-byte aligned; evaluate() pads the lanes past the count itself.
 struct alignas(64) HertzMindlinBatch {
   static constexpr std::size_t kCapacity = 128;  ///< a multiple of every SIMD width
   // kCapacity doubles (or ints) are a multiple of 64 bytes: every array starts aligned.
@@ -62,7 +62,7 @@ struct HertzMindlinSums {
   long contacts = 0;              ///< lanes evaluated
 };
 
-/// Evaluates lanes [0, n) over a time step dt (n rounded up to 8 internally: pad the batch)
+/// Evaluates lanes [0, n) over a time step dt (padding them to a multiple of 8 internally)
 /// and adds their virials, largest overlap and count to `sums`.
 void evaluate(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t n, double dt,
               HertzMindlinSums& sums);
