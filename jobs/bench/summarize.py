@@ -10,7 +10,8 @@ import sys
 
 out, sizes = sys.argv[1], sys.argv[2:]
 print(f"{'n':>8} {'ranks':>5} {'granpack':>12} {'LAMMPS':>12} {'ratio':>6}   granpack breakdown "
-      "(forces/neigh/comm/integr. % of wall)")
+      "(forces/neigh/comm/integr. % of wall;\n"
+      f"{'':>48}of the comm., the waits for the step's slowest force pass)")
 for size in sizes:
     d = os.path.join(out, size)
     rate = {}
@@ -29,6 +30,10 @@ for size in sizes:
         rate[np] = (gp["particle_steps_per_s_per_rank"], lmp_rate)
         w = gp["wall"]
         parts = "/".join(f"{100 * gp[k] / w:.0f}" for k in ("forces", "neighbor", "comm", "integrate"))
+        # Of the communication, the waits for the step's slowest force pass (bench's per-step
+        # balance; absent from files of older versions).
+        if "forces_step_max" in gp:
+            parts += f", of which waits {100 * (gp['forces_step_max'] - gp['forces']) / w:.0f}"
         print(f"{gp['n']:>8} {np:>5} {rate[np][0]:>12.4g} {lmp_rate:>12.4g} "
               f"{rate[np][0] / lmp_rate:>6.2f}   {parts}  ({gp['rebuilds']} rebuilds, "
               f"{gp['bytes_per_grain']:.0f} B/grain; best of {len(gps)} and {len(lmp_rates)} tries)")

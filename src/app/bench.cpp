@@ -65,9 +65,10 @@ double gaussian(std::uint64_t seed, GlobalId id, int k) {
 }
 
 /// The grains of `in` (this rank's slice) copied rep[a] times along each axis.
-ParticleStore<3> replicate(const ParticleStore<3>& in, GlobalId n_total, const std::array<int, 3>& rep) {
+ParticleStore<3> replicate(const ParticleStore<3>& in, const std::array<int, 3>& rep) {
   ParticleStore<3> out;
-  out.reserve(in.n_owned() * std::size_t(rep[0] * rep[1] * rep[2]));
+  const GlobalId copies = GlobalId(rep[0]) * rep[1] * rep[2];
+  out.reserve(in.n_owned() * std::size_t(copies));
   for (int cx = 0; cx < rep[0]; ++cx)
     for (int cy = 0; cy < rep[1]; ++cy)
       for (int cz = 0; cz < rep[2]; ++cz) {
@@ -75,7 +76,12 @@ ParticleStore<3> replicate(const ParticleStore<3>& in, GlobalId n_total, const s
         const Vec<3> shift(cx, cy, cz), k(rep[0], rep[1], rep[2]);
         for (std::size_t i = 0; i < in.n_owned(); ++i) {
           Particle<3> g = in.get(i);
-          g.id += copy * n_total;
+          // Interleaved ids (id x copies + copy), not blocks (id + copy x n): with blocks,
+          // every pair across a copy boundary would have its smaller id in the lower copy,
+          // and the smaller id's rank computes a pair, so the lower rank would take all the
+          // pairs across the cut. Interleaved, ids stay as uncorrelated with position as in
+          // a packing grown from a gas.
+          g.id = g.id * copies + copy;
           g.position = (Cell<3>::wrap(g.position) + shift).cwiseQuotient(k);
           out.add_owned(g);
         }
@@ -133,7 +139,7 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   ctx.system.cell = c.cell;
   ctx.system.cell.rate.setZero();
   for (int a = 0; a < 3; ++a) ctx.system.cell.length[a] *= o.replicate[a];
-  ctx.system.particles = replicate(c.particles, meta.n_particles, o.replicate);
+  ctx.system.particles = replicate(c.particles, o.replicate);
   c = Configuration<3>{};
   const std::int64_t n = meta.n_particles * o.replicate[0] * o.replicate[1] * o.replicate[2];
   auto& p = ctx.system.particles;
@@ -229,7 +235,13 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   const std::int64_t rebuilds0 = engine.rebuilds();
   MPI_Barrier(world);
   const double t0 = MPI_Wtime();
-  for (std::int64_t k = 0; k < o.steps; ++k) engine.step();
+  // Each step's force time, for the per-step balance below.
+  std::vector<double> step_forces(static_cast<std::size_t>(o.steps));
+  for (std::int64_t k = 0; k < o.steps; ++k) {
+    const double f0 = engine.timers().forces;
+    engine.step();
+    step_forces[static_cast<std::size_t>(k)] = engine.timers().forces - f0;
+  }
   MPI_Barrier(world);
   const double wall = MPI_Wtime() - t0;
   StepTimers t = engine.timers();
@@ -244,6 +256,15 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   const double forces_max = global_max(world, t.forces);
   MPI_Allreduce(MPI_IN_PLACE, phases, 4, MPI_DOUBLE, MPI_SUM, world);
   for (double& x : phases) x /= ranks;
+  // The same ratio step by step: every step the ranks meet at the reverse halo exchange, so
+  // each waits for that step's slowest force pass. Sum over steps of the slowest rank's time
+  // over the mean: above the whole-run ratio when the ranks take turns being slow (jitter of
+  // a shared or virtual machine), equal to it for a steady imbalance.
+  std::vector<double> step_max(step_forces.size());
+  MPI_Allreduce(step_forces.data(), step_max.data(), static_cast<int>(step_forces.size()),
+                MPI_DOUBLE, MPI_MAX, world);
+  double forces_step_max = 0;
+  for (double x : step_max) forces_step_max += x;
   const double rss_peak = peak_resident_bytes();
   const double rss_max = global_max(world, rss_peak);
   const double grown = global_sum(world, std::max(0.0, rss_peak - rss_base));
@@ -266,7 +287,9 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       "  wall %.3f s, %.4g s/step, %lld list rebuilds, %lld contacts at the end, P_end = %.6g Pa\n"
       "  particle-steps/s per rank: %.4g\n"
       "  breakdown (mean over ranks): forces %.1f %%, neighbours %.1f %%, communication %.1f %%, "
-      "integration %.1f %%, other %.1f %%; force time of the slowest rank / mean %.3f\n"
+      "integration %.1f %%, other %.1f %%\n"
+      "  force time, slowest rank / mean: %.3f over the run, %.3f step by step (the waits of "
+      "the step-by-step imbalance: %.1f %% of the wall time)\n"
       "  memory: peak RSS %.1f MiB per rank (max), %.0f bytes per grain above the start-up "
       "footprint\n"
       "  ghosts: %.0f in all (largest rank: %.0f for %.0f owned), halo traffic %.3g MB per step "
@@ -279,7 +302,9 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       static_cast<long long>(obs.contacts), pressure_end, pstep, 100 * phases[0] / wall,
       100 * phases[1] / wall, 100 * phases[2] / wall, 100 * phases[3] / wall,
       100 * (wall - phases[0] - phases[1] - phases[2] - phases[3]) / wall,
-      phases[0] > 0 ? forces_max / phases[0] : 1.0, rss_max / 1048576.0,
+      phases[0] > 0 ? forces_max / phases[0] : 1.0,
+      phases[0] > 0 ? forces_step_max / phases[0] : 1.0, 100 * (forces_step_max - phases[0]) / wall,
+      rss_max / 1048576.0,
       grown / double(n), ghosts, ghosts_max, owned_max, ghosts_max * 15 * 8 / 1e6);
   std::string report = root ? std::string(buf) : std::string();
   if (o.json && root) {
@@ -287,12 +312,12 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
     std::snprintf(buf, sizeof buf,
                   "{\"code\": \"granpack\", \"n\": %lld, \"ranks\": %d, \"steps\": %lld, \"dt\": %.17g, "
                   "\"skin\": %.17g, \"wall\": %.6g, \"particle_steps_per_s_per_rank\": %.6g, "
-                  "\"forces\": %.6g, \"forces_max\": %.6g, \"neighbor\": %.6g, \"comm\": %.6g, \"integrate\": %.6g, "
+                  "\"forces\": %.6g, \"forces_max\": %.6g, \"forces_step_max\": %.6g, \"neighbor\": %.6g, \"comm\": %.6g, \"integrate\": %.6g, "
                   "\"rebuilds\": %lld, \"static_pressure\": %.17g, \"static_contacts\": %lld, "
                   "\"rss_max_bytes\": %.6g, \"bytes_per_grain\": %.6g, \"ghosts\": %.0f, "
                   "\"ghosts_max\": %.0f, \"owned_max\": %.0f}\n",
                   static_cast<long long>(n), ranks, static_cast<long long>(o.steps), s.dt, s.skin,
-                  wall, pstep, phases[0], forces_max, phases[1], phases[2], phases[3],
+                  wall, pstep, phases[0], forces_max, forces_step_max, phases[1], phases[2], phases[3],
                   static_cast<long long>(engine.rebuilds() - rebuilds0), static_pressure,
                   static_cast<long long>(static_contacts), rss_max, grown / double(n), ghosts,
                   ghosts_max, owned_max);

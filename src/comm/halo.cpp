@@ -55,6 +55,7 @@ template <int dim>
 void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, const Vec<dim>& width) {
   p.clear_ghosts();
   swaps_.clear();
+  MPI_Comm_rank(d.comm(), &my_rank_);
   for (int a = 0; a < dim; ++a) {
     const double box = d.hi()[a] - d.lo()[a];
     GRANPACK_CHECK(width[a] <= box,
@@ -93,6 +94,12 @@ template <int dim> void Halo<dim>::forward(ParticleStore<dim>& p, const Decompos
   constexpr int per = 2 * dim + rot_dim<dim>;
   // swaps_ holds, per axis, the exchange towards -1 then the one towards +1 (borders()).
   for (std::size_t s0 = 0; s0 < swaps_.size(); s0 += 2) {
+    if (is_self(swaps_[s0]) && is_self(swaps_[s0 + 1])) {
+      // One rank along the axis: the ghosts are images of our own grains, copied in place
+      // (no buffer: half the memory traffic of pack + unpack).
+      for (int q = 0; q < 2; ++q) copy_to_images(p, swaps_[s0 + q]);
+      continue;
+    }
     std::size_t n_in[2];
     int to[2], from[2];
     for (int q = 0; q < 2; ++q) {
@@ -125,6 +132,13 @@ template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decompos
   constexpr int per = dim + rot_dim<dim>;
   // Axes in reverse order (ghosts of later axes may be images of earlier axes' ghosts).
   for (std::size_t s0 = swaps_.size(); s0 >= 2; s0 -= 2) {
+    if (is_self(swaps_[s0 - 2]) && is_self(swaps_[s0 - 1])) {
+      // +1 then -1, as below. The owners an axis adds into existed before the axis began and
+      // its ghosts came after, so adding one swap's ghosts before zeroing the other's changes
+      // nothing: the same sums in the same order as through buffers.
+      for (int q = 1; q >= 0; --q) add_from_images(p, swaps_[s0 - 2 + q]);
+      continue;
+    }
     std::size_t n_in[2];
     int to[2], from[2];
     for (int q = 0; q < 2; ++q) {
@@ -151,6 +165,32 @@ template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decompos
         for (int a = 0; a < rot_dim<dim>; ++a) p.torque[i][a] += *in++;
       }
     }
+  }
+}
+
+template <int dim> bool Halo<dim>::is_self(const Swap& sw) const {
+  return sw.to == sw.from && sw.to == my_rank_;
+}
+
+template <int dim> void Halo<dim>::copy_to_images(ParticleStore<dim>& p, const Swap& sw) const {
+  std::size_t g = sw.recv_first;
+  for (std::size_t i : sw.send) {
+    p.position[g] = p.position[i];
+    p.position[g][sw.axis] += sw.shift;
+    p.velocity[g] = p.velocity[i];
+    p.angular_velocity[g] = p.angular_velocity[i];
+    ++g;
+  }
+}
+
+template <int dim> void Halo<dim>::add_from_images(ParticleStore<dim>& p, const Swap& sw) const {
+  std::size_t g = sw.recv_first;
+  for (std::size_t i : sw.send) {
+    p.force[i] += p.force[g];
+    p.torque[i] += p.torque[g];
+    p.force[g].setZero();
+    p.torque[g].setZero();
+    ++g;
   }
 }
 
