@@ -9,11 +9,15 @@ Writes into OUT_DIR (created if needed), overlaying all input files:
   zh.png            z(h): linear, h <= 0.1 a, and z(h) - z0 on log-log axes,
                     with the fits of eq. (35) z0 + A h^beta                     ([AR] figs. 6, 9-12)
   coordination.png  x_i, grouped bars per file                                  ([AR] tables I, V)
+  ik.png            2D files: I(k) a^-2 versus k a on log-log axes with the standard errors
+                    and the fit of [GRC] eq. (28) (solid over the fitted range, dotted beyond),
+                    d_F and xi in the legend                                    ([GRC] fig. 23)
 The written files are printed on stdout; notes about missing data (older or 2D files) go to
 stderr and the figure, or the file's curves, are left out. See docs/plots.md.
 """
 import argparse
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -351,6 +355,91 @@ def plot_coordination(runs, out_dir, written):
     save(fig, out_dir, "coordination.png", written)
 
 
+def legendre_p(nu, x):
+    """P_nu(x) for 0 < x <= 1 by its hypergeometric series in (1 - x)/2, as
+    src/analysis/density_correlation.cpp evaluates it."""
+    y = 0.5 * (1.0 - x)
+    term = total = 1.0
+    for n in range(2000):
+        term *= (n - nu) * (nu + 1 + n) / float((n + 1) * (n + 1)) * y
+        total += term
+        if abs(term) < 1e-17 * abs(total):
+            break
+    return total
+
+
+def eq28_over_a2(ka, d_f, xi_a, constant_a2, amplitude_reduced):
+    """[GRC] eq. (28) in units of a: I/a^2 = Cst/a^2 + A 2 pi Gamma(d_F) s^-d_F P_{d_F-1}(p/s),
+    p = a/xi, s = sqrt(p^2 + (k a)^2), A = amplitude a^(d_F - 2) = Phi (l/a)^(2 - d_F)."""
+    p = 1.0 / xi_a
+    out = []
+    for k in ka:
+        s = math.hypot(p, k)
+        out.append(constant_a2 + amplitude_reduced * 2 * math.pi * math.gamma(d_f) * s ** (-d_f)
+                   * legendre_p(d_f - 1.0, p / s))
+    return np.array(out)
+
+
+def plot_ik(runs, out_dir, written):
+    fig, ax = plt.subplots(figsize=(6.8, 5.0))
+    drawn = 0
+    for k, (label, data) in enumerate(runs):
+        density = data.get("density")
+        if not isinstance(density, dict):
+            note(f"{label}: no density (3D or an older file), left out of ik.png")
+            continue
+        got, why = arrays(density, "I_k", ("k_times_a", "I_over_a2", "I_error_over_a2"))
+        if got is None:
+            note(f"{label}: {why.replace('no ', 'no density.')}, left out of ik.png")
+            continue
+        ka, I, err = got
+        if not (len(ka) == len(I) == len(err)):
+            note(f"{label}: density.I_k arrays differ in length, left out of ik.png")
+            continue
+        keep = (ka > 0) & (I > 0)
+        ax.errorbar(ka[keep], I[keep], yerr=np.minimum(err[keep], 0.999 * I[keep]), fmt="o",
+                    ms=3, lw=0.8, color=f"C{k}", label=f"{label}")
+        drawn += 1
+        fit = density.get("fit_eq28")
+        if not isinstance(fit, dict):
+            note(f"{label}: no density.fit_eq28, curve only")
+            continue
+        names = ("d_F", "xi_over_a", "constant_over_a2", "l_over_a")
+        d_f, xi_a, c_a2, l_a = (as_number(fit.get(n)) for n in names)
+        phi = as_number(data.get("phi"))
+        if None in (d_f, xi_a, c_a2, l_a, phi) or xi_a <= 0 or abs(2.0 - d_f) < 1e-9:
+            note(f"{label}: density.fit_eq28 incomplete (or d_F = 2), no fit curve")
+            continue
+        amp = phi * l_a ** (2.0 - d_f)
+        rng = as_array(fit.get("k_range_times_a"))
+        lo, hi = (float(rng[0]), float(rng[1])) if rng is not None and len(rng) == 2 else \
+            (float(ka[keep].min()), float(ka[keep].max()))
+        grid = np.geomspace(ka[keep].min(), ka[keep].max(), 200)
+        inside = (grid >= lo) & (grid <= hi)
+        model = eq28_over_a2(grid, d_f, xi_a, c_a2, amp)
+        ok = model > 0
+        d_err, xi_err = as_number(fit.get("d_F_error")), as_number(fit.get("xi_error_over_a"))
+        regime = fit.get("fractal_regime") is True
+        text = (f"eq. (28): $d_F$ = {d_f:.3g}" + (f" ± {d_err:.2g}" if d_err is not None else "")
+                + rf", $\xi/a$ = {xi_a:.3g}" + (f" ± {xi_err:.2g}" if xi_err is not None else "")
+                + ("" if regime else " (no fractal regime)"))
+        ax.plot(grid[inside & ok], model[inside & ok], "-", color=f"C{k}", lw=1.3, label=text)
+        ax.plot(grid[~inside & ok], model[~inside & ok], ":", color=f"C{k}", lw=1.0)
+    if not drawn:
+        plt.close(fig)
+        note("ik.png not written: no input has a usable density.I_k")
+        return
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("$k a$")
+    ax.set_ylabel("$I(k)/a^2$")
+    ax.legend(fontsize=7)
+    ax.set_title("Density fluctuations $I(k)$ and the fit of eq. (28) (cf. [GRC] fig. 23)",
+                 fontsize=10)
+    fig.tight_layout()
+    save(fig, out_dir, "ik.png", written)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(
         prog=PROG,
@@ -378,7 +467,7 @@ def main(argv=None):
         die(f"cannot create '{out_dir}': {e.strerror or e}")
 
     written, failed = [], []
-    for plot in (plot_pf, plot_gr, plot_zh, plot_coordination):
+    for plot in (plot_pf, plot_gr, plot_zh, plot_coordination, plot_ik):
         try:
             plot(runs, out_dir, written)
         except Exception as e:  # a figure that fails must not stop the others

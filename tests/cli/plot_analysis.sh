@@ -81,5 +81,38 @@ check "non-JSON input: non-zero exit with the file's name ($(cat "$scratch/bad.t
 "$py" "$tool" "$scratch/lab" "$scratch/D.json" --labels a,b > "$scratch/lab.txt" 2>&1
 rc=$?; check "--labels count mismatch: non-zero exit" "[ $rc -ne 0 ] && grep -q 'labels' '$scratch/lab.txt'"
 
+# [GRC] fig. 23: the eq. (28) model of the tool against closed forms (P_1(x) = x,
+# P_2(x) = (3x^2 - 1)/2; d_F = 1 gives Cst + 2 pi A / sqrt(p^2 + k^2)), then ik.png from a 2D file
+# with a density block; a 3D file has none and is left out.
+"$py" - "$GRANPACK_SOURCE_DIR/jobs/tools" "$scratch" <<'PY' > "$scratch/model.txt" 2>&1
+import json, math, sys
+sys.path.insert(0, sys.argv[1])
+import plot_analysis as t
+assert abs(t.legendre_p(1.0, 0.3) - 0.3) < 1e-15, t.legendre_p(1.0, 0.3)
+assert abs(t.legendre_p(2.0, 0.5) + 0.125) < 1e-15, t.legendre_p(2.0, 0.5)
+ka = [0.1, 1.0, 7.0]
+got = t.eq28_over_a2(ka, 1.0, 4.0, 1e-3, 0.05)
+for k, g in zip(ka, got):
+    want = 1e-3 + 2 * math.pi * 0.05 / math.hypot(0.25, k)
+    assert abs(g - want) < 1e-12 * want, (k, g, want)
+# a synthetic 2D analysis: I(k) of eq. (28) with d_F = 1.6, xi = 5 a, noise-free
+d_f, xi, l, phi, c = 1.6, 5.0, 0.05, 0.3, 1e-4
+ks = [0.12 * 1.15 ** i for i in range(40)]
+I = list(t.eq28_over_a2(ks, d_f, xi, c, phi * l ** (2 - d_f)))
+json.dump({"file": "g.h5", "dimension": 2, "phi": phi,
+           "density": {"I_k": {"k_times_a": ks, "I_over_a2": I, "I_error_over_a2": [0.1 * v for v in I]},
+                       "fit_eq28": {"d_F": d_f, "d_F_error": 0.05, "xi_over_a": xi, "xi_error_over_a": 0.5,
+                                    "constant_over_a2": c, "l_over_a": l, "fractal_regime": True,
+                                    "k_range_times_a": [0.12, 6.283]}}},
+          open(f"{sys.argv[2]}/G2d.json", "w"))
+print("model ok")
+PY
+check "eq. (28) model against closed forms ($(tail -2 "$scratch/model.txt"))" "grep -q 'model ok' '$scratch/model.txt'"
+"$py" "$tool" "$scratch/ik" "$scratch/G2d.json" "$scratch/D.json" > "$scratch/ik.txt" 2>&1
+rc=$?; check "2D density file: exit 0 ($(tail -2 "$scratch/ik.txt"))" "[ $rc -eq 0 ]"
+check "2D density file: ik.png is a non-empty PNG" "is_png '$scratch/ik/ik.png'"
+check "3D file left out of ik.png with a note" "grep -q 'D: no density' '$scratch/ik.txt'"
+check "3D file alone: no ik.png" "[ ! -e '$scratch/one/ik.png' ]"
+
 echo "plot_analysis: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
