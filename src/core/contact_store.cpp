@@ -1,5 +1,7 @@
 #include "granpack/core/contact_store.h"
 
+#include <algorithm>
+
 namespace granpack {
 
 template <int dim> std::ptrdiff_t ContactStore<dim>::find(const ContactKey& key) const {
@@ -49,16 +51,27 @@ void ContactStore<dim>::erase_if(
   for (std::size_t k = 0; k < out; ++k) index_.emplace(keys_[k], k);
 }
 
-template <int dim> void ContactStore<dim>::permute(const std::vector<std::size_t>& order) {
-  std::vector<ContactKey> keys(order.size());
-  std::vector<ContactState<dim>> states(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    keys[k] = keys_[order[k]];
-    states[k] = states_[order[k]];
+template <int dim>
+void ContactStore<dim>::permute(const std::vector<std::size_t>& order, std::size_t capacity) {
+  std::vector<ContactKey> keys;
+  std::vector<ContactState<dim>> states;
+  const std::size_t room = std::max(order.size(), capacity);
+  keys.reserve(room);
+  states.reserve(room);
+  index_.reserve(room);
+  for (std::size_t k : order) {
+    keys.push_back(keys_[k]);
+    states.push_back(states_[k]);
   }
   keys_.swap(keys);
   states_.swap(states);
   for (std::size_t k = 0; k < keys_.size(); ++k) index_[keys_[k]] = k;
+}
+
+template <int dim> void ContactStore<dim>::reserve(std::size_t n) {
+  keys_.reserve(n);
+  states_.reserve(n);
+  index_.reserve(n);
 }
 
 template <int dim> void ContactStore<dim>::clear() {

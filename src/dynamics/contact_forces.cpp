@@ -10,12 +10,18 @@ void ContactForceLoop<dim>::bind(const ParticleStore<dim>& p, const VerletList<d
                                  ContactStore<dim>& store) {
   store.erase_if([](const ContactKey&, const ContactState<dim>& s) { return s.age == 0; });
   slot_.assign(list.n_pairs(), -1);
-  if (store.size() == 0) return;
+  if (store.size() == 0) {
+    store.reserve(list.n_pairs());  // every contact until the next rebuild is a listed pair
+    return;
+  }
   const auto& off = list.offsets();
   const auto& nb = list.neighbor_array();
+  std::size_t without = 0;  // listed pairs with no contact yet: the contacts that may form
   for (std::size_t i = 0; i < list.n_owned(); ++i)
-    for (std::size_t k = off[i]; k < off[i + 1]; ++k)
+    for (std::size_t k = off[i]; k < off[i + 1]; ++k) {
       slot_[k] = store.find(ContactKey{p.id[i], p.id[nb[k]]});
+      without += slot_[k] < 0 ? 1 : 0;
+    }
   // Lay the histories out in list order (those of no listed pair, if any, after them): the
   // force loop then walks the store sequentially instead of jumping through it in insertion
   // order (72-byte records; a cache miss per contact once the store outgrows the L2 cache).
@@ -32,7 +38,7 @@ void ContactForceLoop<dim>::bind(const ParticleStore<dim>& p, const VerletList<d
   }
   for (std::size_t k = 0; k < store.size(); ++k)
     if (moved[k] < 0) order.push_back(k);
-  store.permute(order);
+  store.permute(order, store.size() + without);
 }
 
 namespace {

@@ -67,7 +67,13 @@ public:
   /// Reorders the contacts: new index k holds the contact that was at index order[k]
   /// (`order` is a permutation of 0..size()-1). The force loop lays the histories out in
   /// Verlet-list order, so that the hot loop reads them sequentially.
-  void permute(const std::vector<std::size_t>& order);
+  /// `capacity`: as reserve(), in the same pass.
+  void permute(const std::vector<std::size_t>& order, std::size_t capacity = 0);
+  /// Makes room for `n` contacts in all, so that inserts up to n move nothing. The force loop
+  /// reserves, at each list rebuild, the largest number the store can reach before the next
+  /// one (its contacts plus the listed pairs that have none): grown by doubling instead, the
+  /// arrays would hold up to twice what the contacts need, and three times while they move.
+  void reserve(std::size_t n);
 
 private:
   std::vector<ContactKey> keys_;
