@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--checkpoint-every-seconds", ckpt_seconds,
                       "wall seconds between checkpoints, 0: off (overrides the deck)")
       ->check(CLI::NonNegativeNumber);
-  run_cmd->add_flag("-q,--quiet", run.quiet, "no progress lines (batch mode)");
+  run_cmd->add_flag("-q,--quiet", run.quiet, "no progress lines on the terminal (batch mode); log.txt keeps them");
 
   std::string file, json_out;
   auto* analyze_cmd = app.add_subcommand("analyze", "geometric and mechanical analysis of a packing");

@@ -18,4 +18,8 @@ void Log::emit(const std::string& line, bool to_stderr) {
   if (file_) *file_ << line << std::endl;
 }
 
+void Log::emit_to_file(const std::string& line) {
+  if (root_ && file_) *file_ << line << std::endl;
+}
+
 }  // namespace granpack

@@ -30,6 +30,10 @@ for np in 1 2; do
     echo "FAIL: run on $np rank(s):"; tail -20 "$scratch/np$np.txt"; exit 1
   fi
 done
+# --quiet: no progress lines on the terminal, but log.txt keeps them (a batch job's progress).
+if grep -q '^  step ' "$scratch/np2.txt" || ! grep -q '^  step ' "$scratch/np2/log.txt"; then
+  echo "FAIL: --quiet must keep progress lines out of the terminal and in log.txt"; exit 1
+fi
 # Rigidity ([GRC] App. A) on 1 and 2 ranks: the interaction network of an equilibrated packing
 # with rolling resistance at P* = 0.01 is rigid (only the 2 translations), K(1) is positive
 # definite; G has 3 rows per contact and 1 per distant pair; both runs agree.

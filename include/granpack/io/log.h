@@ -1,7 +1,8 @@
 #pragma once
 // The human log: rank 0 writes to the terminal and to DIR/log.txt; other ranks stay silent.
-// Levels: info (always, unless the caller is quiet), progress (suppressed by quiet mode),
-// warn (always). Every line is flushed so that a killed job leaves a complete log.
+// Levels: info (always), progress (in quiet mode to the log file only: a batch job's terminal
+// output stays short while DIR/log.txt still shows how far a long stage has come), warn
+// (always). Every line is flushed so that a killed job leaves a complete log.
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -11,20 +12,24 @@ namespace granpack {
 
 class Log {
 public:
-  /// `is_root`: whether this rank writes; `quiet`: drop progress lines.
+  /// `is_root`: whether this rank writes; `quiet`: progress lines to the file only.
   Log(bool is_root, bool quiet) : root_(is_root), quiet_(quiet) {}
   /// Also append every line to this file (rank 0 only; created, or truncated unless
   /// `append`: a restarted run continues the interrupted run's log).
   void open_file(const std::string& path, bool append = false);
   void info(const std::string& line) { emit(line, false); }
   void progress(const std::string& line) {
-    if (!quiet_) emit(line, false);
+    if (quiet_)
+      emit_to_file(line);
+    else
+      emit(line, false);
   }
   void warn(const std::string& line) { emit("warning: " + line, true); }
   bool quiet() const { return quiet_; }
 
 private:
   void emit(const std::string& line, bool to_stderr);
+  void emit_to_file(const std::string& line);
   bool root_, quiet_;
   std::unique_ptr<std::ofstream> file_;
 };
