@@ -53,7 +53,9 @@ done
 /usr/bin/python3 - "$root/out/2d/table$table" $cases <<'PY'
 import json, sys, os
 base, cases = sys.argv[1], sys.argv[2:]
-print(f"{'case':>16} {'Phi':>8} {'z':>6} {'z*':>6} {'x0':>6} {'steps':>9} {'wall s':>8}")
+# z: force-carrying contacts per disk; z_int: every interaction, distant pairs included
+# ([GRC]'s z with cohesion, table III); z* and x0: [AR]'s rattler rule.
+print(f"{'case':>16} {'Phi':>8} {'z':>6} {'z_int':>6} {'z*':>6} {'x0':>6} {'steps':>9} {'wall s':>8}")
 for c in cases:
     try:
         r = json.load(open(os.path.join(base, c, "report.json")))
@@ -61,6 +63,8 @@ for c in cases:
         print(f"{c:>16}  (no report.json)")
         continue
     s = next(s for s in r["stages"] if s["kind"] == "compress")
-    print(f"{c:>16} {s['phi']:8.4f} {s['z']:6.3f} {s['z_star']:6.3f} {s['x0']:6.3f} "
+    z_int = s.get("values", {}).get("z_interactions")
+    z_int = f"{z_int:6.3f}" if isinstance(z_int, (int, float)) else f"{'-':>6}"
+    print(f"{c:>16} {s['phi']:8.4f} {s['z']:6.3f} {z_int} {s['z_star']:6.3f} {s['x0']:6.3f} "
           f"{s['steps']:9d} {s['wall_seconds']:8.0f}")
 PY
