@@ -21,33 +21,22 @@ std::vector<double> sendrecv(MPI_Comm comm, const std::vector<double>& out, int 
   return in;
 }
 
-/// The two exchanges of one axis (towards -1 and +1), whose lengths the receivers know
-/// (forward/reverse: the ghost lists are fixed between rebuilds). They are independent (both
-/// read what existed before the axis began), so they run at once: both receives and sends
-/// posted, one wait, one latency instead of two. An exchange whose partners are both this
-/// rank (one rank along the axis: the periodic image of our own grains) is a buffer swap.
+/// The two exchanges of one axis (towards -1 and +1) with other ranks, whose lengths the
+/// receivers know (forward/reverse: the ghost lists are fixed between rebuilds). They are
+/// independent (both read what existed before the axis began), so they run at once: both
+/// receives and sends posted, one wait, one latency instead of two. (An axis along which this
+/// rank is alone never comes here: its ghosts are its own images, copied in place.)
 void exchange_axis(MPI_Comm comm, std::vector<double> (&out)[2], std::vector<double> (&in)[2],
                    const std::size_t (&n_in)[2], const int (&to)[2], const int (&from)[2], int tag) {
-  int me = 0;
-  MPI_Comm_rank(comm, &me);
   MPI_Request req[4];
-  int n_req = 0;
   for (int q = 0; q < 2; ++q) {
-    if (to[q] == me && from[q] == me) {
-      GRANPACK_CHECK(out[q].size() == n_in[q], "halo: ghost count changed");
-      in[q].swap(out[q]);
-      continue;
-    }
     in[q].resize(n_in[q]);
-    MPI_Irecv(in[q].data(), static_cast<int>(n_in[q]), MPI_DOUBLE, from[q], tag + q, comm,
-              &req[n_req++]);
+    MPI_Irecv(in[q].data(), static_cast<int>(n_in[q]), MPI_DOUBLE, from[q], tag + q, comm, &req[q]);
   }
-  for (int q = 0; q < 2; ++q) {
-    if (to[q] == me && from[q] == me) continue;
+  for (int q = 0; q < 2; ++q)
     MPI_Isend(out[q].data(), static_cast<int>(out[q].size()), MPI_DOUBLE, to[q], tag + q, comm,
-              &req[n_req++]);
-  }
-  MPI_Waitall(n_req, req, MPI_STATUSES_IGNORE);
+              &req[2 + q]);
+  MPI_Waitall(4, req, MPI_STATUSES_IGNORE);
 }
 }  // namespace
 
@@ -55,7 +44,8 @@ template <int dim>
 void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, const Vec<dim>& width) {
   p.clear_ghosts();
   swaps_.clear();
-  MPI_Comm_rank(d.comm(), &my_rank_);
+  int me = 0;
+  MPI_Comm_rank(d.comm(), &me);
   for (int a = 0; a < dim; ++a) {
     const double box = d.hi()[a] - d.lo()[a];
     GRANPACK_CHECK(width[a] <= box,
@@ -67,6 +57,7 @@ void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, cons
       Swap sw;
       sw.axis = a;
       MPI_Cart_shift(d.comm(), a, dir, &sw.from, &sw.to);
+      sw.self = sw.from == me && sw.to == me;
       // Leaving through the periodic boundary: lower face of coord 0 or upper of the last.
       if (dir < 0 && d.coords()[a] == 0) sw.shift = 1.0;
       if (dir > 0 && d.coords()[a] == d.dims()[a] - 1) sw.shift = -1.0;
@@ -94,7 +85,7 @@ template <int dim> void Halo<dim>::forward(ParticleStore<dim>& p, const Decompos
   constexpr int per = 2 * dim + rot_dim<dim>;
   // swaps_ holds, per axis, the exchange towards -1 then the one towards +1 (borders()).
   for (std::size_t s0 = 0; s0 < swaps_.size(); s0 += 2) {
-    if (is_self(swaps_[s0]) && is_self(swaps_[s0 + 1])) {
+    if (swaps_[s0].self) {  // then both are: one rank along the axis
       // One rank along the axis: the ghosts are images of our own grains, copied in place
       // (no buffer: half the memory traffic of pack + unpack).
       for (int q = 0; q < 2; ++q) copy_to_images(p, swaps_[s0 + q]);
@@ -132,7 +123,7 @@ template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decompos
   constexpr int per = dim + rot_dim<dim>;
   // Axes in reverse order (ghosts of later axes may be images of earlier axes' ghosts).
   for (std::size_t s0 = swaps_.size(); s0 >= 2; s0 -= 2) {
-    if (is_self(swaps_[s0 - 2]) && is_self(swaps_[s0 - 1])) {
+    if (swaps_[s0 - 2].self) {
       // +1 then -1, as below. The owners an axis adds into existed before the axis began and
       // its ghosts came after, so adding one swap's ghosts before zeroing the other's changes
       // nothing: the same sums in the same order as through buffers.
@@ -166,10 +157,6 @@ template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decompos
       }
     }
   }
-}
-
-template <int dim> bool Halo<dim>::is_self(const Swap& sw) const {
-  return sw.to == sw.from && sw.to == my_rank_;
 }
 
 template <int dim> void Halo<dim>::copy_to_images(ParticleStore<dim>& p, const Swap& sw) const {

@@ -39,15 +39,13 @@ private:
     double shift = 0;              ///< added to s[axis] of what we send
     std::vector<std::size_t> send; ///< local indices sent
     std::size_t recv_first = 0, recv_count = 0;
+    bool self = false;             ///< to == from == this rank: the ghosts are our own images
   };
-  /// Both partners are this rank: the ghosts are periodic images of our own grains.
-  bool is_self(const Swap& sw) const;
   /// forward()/reverse() of a self swap, in place instead of through message buffers.
   void copy_to_images(ParticleStore<dim>& p, const Swap& sw) const;
   void add_from_images(ParticleStore<dim>& p, const Swap& sw) const;
 
   std::vector<Swap> swaps_;
-  int my_rank_ = 0;
   // Message buffers kept between steps: no allocation (and no page faults of fresh large
   // blocks) in forward()/reverse(), which run every step.
   // Two of each: the two exchanges of an axis run at once.
