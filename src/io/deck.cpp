@@ -383,8 +383,12 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
   } else if (st.kind == "random") {
     // Overlap removal (prep/overlap_removal) stays far from jamming below these values.
     double phi_max = sample.dimension == 3 ? 0.55 : 0.70;
-    st.params = RandomStage{rk.number("phi", Range{0.0, phi_max, true, false},
-                                      "solid fraction of the random placement")};
+    RandomStage rs{rk.number("phi", Range{0.0, phi_max, true, false},
+                            "solid fraction of the random placement")};
+    rs.placement = rk.choice_or("placement", "relax", {"relax", "sequential"},
+                               "the placement (relax: overlaps removed, pairs left "
+                               "touching; sequential: random sequential addition)");
+    st.params = rs;
   } else if (st.kind == "compress") {
     CompressStage c;
     read_stress_target(rk, v, sample, material.cohesion_force > 0, c);

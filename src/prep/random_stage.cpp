@@ -1,9 +1,12 @@
 // `random` stage: grains at random positions in a cubic (square) cell at solid fraction phi,
-// at rest, without overlaps.
-// Positions are drawn uniformly (overlaps allowed), then overlaps are removed by damped,
-// frictionless MD at fixed cell with a soft linear repulsion (prep/overlap_removal) until the
-// largest overlap is below 1e-9 of a radius. Unlike random sequential addition, which jams near
-// Phi = 0.38 in 3D, this reaches the gas densities the protocols need (Phi = 0.45 in [AR]).
+// at rest, without overlaps. Two placements:
+//  - relax (default): positions drawn uniformly (overlaps allowed), then the overlaps removed
+//    by damped, frictionless MD at fixed cell with a soft linear repulsion
+//    (prep/overlap_removal) until the largest overlap is below 1e-9 of a radius. Unlike random
+//    sequential addition, which jams near Phi = 0.38 in 3D, this reaches the gas densities the
+//    protocols need (Phi = 0.45 in [AR]), but leaves the formerly overlapping pairs touching.
+//  - sequential: random sequential addition (neighbor/sequential_placement), no contacts; the
+//    I-state of [GRC], where touching pairs would be bonded by cohesion from the start.
 // Every rank draws all n positions from the same seeded stream and keeps its own, so the
 // sample does not depend on the rank count.
 #include <cmath>
@@ -11,6 +14,7 @@
 #include <random>
 
 #include "granpack/core/error.h"
+#include "granpack/neighbor/sequential_placement.h"
 #include "granpack/prep/stages.h"
 
 namespace granpack {
@@ -32,9 +36,23 @@ template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStag
   ctx.system.cell.length = Vec<dim>::Constant(side);
   ctx.system.cell.rate.setZero();
   ctx.decomposition = std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
+  const bool sequential = p.placement == "sequential";
+  std::vector<Vec<dim>> placed;
+  if (sequential) {
+    try {
+      placed = place_sequentially<dim>(diameter, side, rng);
+    } catch (const Error& e) {
+      throw InputError("stage " + std::to_string(ctx.stage_index) + " (random, placement = "
+                       "\"sequential\", phi = " + std::to_string(p.phi) + "): " + e.what() +
+                       "; lower phi or use placement = \"relax\"");
+    }
+  }
   for (std::int64_t k = 0; k < sample.n; ++k) {
     Vec<dim> s;
-    for (int a = 0; a < dim; ++a) s[a] = u(rng);
+    if (sequential)
+      s = placed[static_cast<std::size_t>(k)];
+    else
+      for (int a = 0; a < dim; ++a) s[a] = u(rng);
     if (!ctx.decomposition->owns(s)) continue;
     Particle<dim> q;
     q.id = k;
@@ -45,7 +63,10 @@ template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStag
     q.position = s;
     ctx.system.particles.add_owned(q);
   }
-  return remove_overlaps(ctx);
+  if (!sequential) return remove_overlaps(ctx);
+  ctx.system.time = 0;
+  ctx.log->info("  placed by random sequential addition");
+  return StageReport{};
 }
 
 template StageReport run_random<2>(RunContext<2>&, const RandomStage&);

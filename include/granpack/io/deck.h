@@ -67,6 +67,7 @@ struct LatticeStage {
 };
 struct RandomStage {
   double phi = 0;  ///< solid fraction of the non-overlapping random placement
+  std::string placement = "relax";  ///< "relax" (overlap removal) or "sequential" (RSA)
   friend bool operator==(const RandomStage&, const RandomStage&) = default;
 };
 struct CompressStage {
