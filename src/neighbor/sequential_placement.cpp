@@ -45,15 +45,15 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
   };
   auto fits = [&](std::size_t i, const Vec<dim>& x) {
     const auto c0 = cell_of(x);
-    std::array<int, dim> off{};
     const int n_stencil = dim == 3 ? span * span * span : span * span;
     for (int k = 0; k < n_stencil; ++k) {
+      // k -> one cell of the stencil: c0 + (-1..1) per axis, or every cell below 3 per axis.
       int rest = k;
       std::array<int, dim> c{};
       for (int a = 0; a < dim; ++a) {
-        off[a] = rest % span - reach;
+        const int digit = rest % span;
         rest /= span;
-        c[a] = per_axis >= 3 ? (c0[a] + off[a] + per_axis) % per_axis : off[a] + reach;
+        c[a] = reach ? (c0[a] + digit - 1 + per_axis) % per_axis : digit;
       }
       for (std::int64_t j = head[flat(c)]; j >= 0; j = next[static_cast<std::size_t>(j)]) {
         Vec<dim> r = x - s[static_cast<std::size_t>(j)];
