@@ -1,15 +1,17 @@
 // Random sequential addition in a periodic cube; see the header for why.
 // A periodic grid of cells of side >= the largest diameter holds the placed grains as linked
 // lists (head per cell, next per grain), so a trial looks at the 3^dim cells around it.
+// (neighbor/cell_grid bins a fixed set once and is not periodic; this grid grows by one
+// grain at a time.)
 #include "granpack/neighbor/sequential_placement.h"
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <numeric>
 #include <sstream>
 
 #include "granpack/core/error.h"
+#include "granpack/core/particles.h"
 
 namespace granpack {
 
@@ -30,8 +32,8 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
   std::size_t n_cells = 1;
   for (int a = 0; a < dim; ++a) n_cells *= static_cast<std::size_t>(per_axis);
   std::vector<std::int64_t> head(n_cells, -1), next(n, -1);
-  const int reach = per_axis >= 3 ? 1 : 0;  // below 3 cells: scan them all
-  const int span = per_axis >= 3 ? 3 : per_axis;
+  const bool scan_all = per_axis < 3;  // below 3 cells per axis every cell is a neighbour
+  const int span = scan_all ? per_axis : 3;
 
   auto cell_of = [&](const Vec<dim>& x) {
     std::array<int, dim> c{};
@@ -53,7 +55,7 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
       for (int a = 0; a < dim; ++a) {
         const int digit = rest % span;
         rest /= span;
-        c[a] = reach ? (c0[a] + digit - 1 + per_axis) % per_axis : digit;
+        c[a] = scan_all ? digit : (c0[a] + digit - 1 + per_axis) % per_axis;
       }
       for (std::int64_t j = head[flat(c)]; j >= 0; j = next[static_cast<std::size_t>(j)]) {
         Vec<dim> r = x - s[static_cast<std::size_t>(j)];
@@ -70,17 +72,19 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return diameter[a] > diameter[b]; });
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  double placed_volume = 0;
-  for (std::size_t i : order) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = order[k];
     Vec<dim> x;
     std::int64_t attempt = 0;
     do {
       if (attempt++ == max_attempts_per_grain) {
+        double placed = 0;  // the grains before this one in `order`
+        for (std::size_t j = 0; j < k; ++j) placed += HomogeneousGrain<dim>::volume(diameter[order[j]]);
         std::ostringstream msg;
         msg << "sequential placement: grain " << i << " (diameter " << diameter[i]
             << ") found no room after " << max_attempts_per_grain
-            << " random tries, with a solid fraction of "
-            << placed_volume / std::pow(side, dim) << " already placed";
+            << " random tries, with a solid fraction of " << placed / std::pow(side, dim)
+            << " already placed";
         throw Error(msg.str());
       }
       for (int a = 0; a < dim; ++a) x[a] = u(rng);
@@ -89,8 +93,6 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
     const std::size_t c = flat(cell_of(x));
     next[i] = head[c];
     head[c] = static_cast<std::int64_t>(i);
-    placed_volume += dim == 3 ? std::numbers::pi * std::pow(diameter[i], 3) / 6.0
-                              : std::numbers::pi * diameter[i] * diameter[i] / 4.0;
   }
   return s;
 }

@@ -10,7 +10,6 @@
 // Every rank draws all n positions from the same seeded stream and keeps its own, so the
 // sample does not depend on the rank count.
 #include <cmath>
-#include <numbers>
 #include <random>
 
 #include "granpack/core/error.h"
@@ -31,7 +30,7 @@ template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStag
     for (auto& d : diameter) d = sample.diameter * (sample.min_diameter_ratio + (1.0 - sample.min_diameter_ratio) * u(rng));
   double volume = 0;
   for (double d : diameter)
-    volume += dim == 3 ? std::numbers::pi * d * d * d / 6.0 : std::numbers::pi * d * d / 4.0;
+    volume += HomogeneousGrain<dim>::volume(d);
   const double side = std::pow(volume / p.phi, 1.0 / dim);
   ctx.system.cell.length = Vec<dim>::Constant(side);
   ctx.system.cell.rate.setZero();

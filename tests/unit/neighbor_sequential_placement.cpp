@@ -2,12 +2,13 @@
 // placed in [0,1), reproducible from the seed, and a clear error when there is no room.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <random>
 #include <vector>
 
 #include "granpack/core/error.h"
+#include "granpack/core/particles.h"
 #include "granpack/neighbor/sequential_placement.h"
 #include "neighbor_fixtures.h"
 
@@ -25,22 +26,27 @@ template <int dim> std::pair<std::vector<double>, double> sample(std::size_t n, 
   double volume = 0;
   for (auto& x : d) {
     x = u(rng);
-    volume += dim == 3 ? std::numbers::pi * x * x * x / 6 : std::numbers::pi * x * x / 4;
+    volume += HomogeneousGrain<dim>::volume(x);
   }
   return {d, std::pow(volume / phi, 1.0 / dim)};
 }
 
-/// Smallest surface gap over all pairs (nearest image), in units of the diameters.
+/// Surface gap of every pair (nearest image), in the units of the diameters.
 template <int dim>
-double smallest_gap(const std::vector<Vec<dim>>& s, const std::vector<double>& d, double side) {
-  double g = INFINITY;
+std::vector<double> pair_gaps(const std::vector<Vec<dim>>& s, const std::vector<double>& d, double side) {
+  std::vector<double> g;
   for (std::size_t i = 0; i < s.size(); ++i)
     for (std::size_t j = i + 1; j < s.size(); ++j) {
       Vec<dim> r = s[j] - s[i];
       for (int a = 0; a < dim; ++a) r[a] -= std::round(r[a]);
-      g = std::min(g, r.norm() * side - 0.5 * (d[i] + d[j]));
+      g.push_back(r.norm() * side - 0.5 * (d[i] + d[j]));
     }
   return g;
+}
+template <int dim>
+double smallest_gap(const std::vector<Vec<dim>>& s, const std::vector<double>& d, double side) {
+  const auto g = pair_gaps<dim>(s, d, side);
+  return *std::min_element(g.begin(), g.end());
 }
 
 TYPED_TEST(SequentialPlacementTest, NoTwoGrainsOverlapAndAllAreInTheCell) {
@@ -67,14 +73,8 @@ TYPED_TEST(SequentialPlacementTest, FewPairsAreCloserThanAThousandthOfADiameter)
   auto [d, side] = sample<dim>(600, 0.36);
   std::mt19937_64 rng(8);
   const auto s = place_sequentially<dim>(d, side, rng);
-  int close = 0;
-  for (std::size_t i = 0; i < s.size(); ++i)
-    for (std::size_t j = i + 1; j < s.size(); ++j) {
-      Vec<dim> r = s[j] - s[i];
-      for (int a = 0; a < dim; ++a) r[a] -= std::round(r[a]);
-      close += r.norm() * side - 0.5 * (d[i] + d[j]) < 1e-3;
-    }
-  EXPECT_LE(close, 20);
+  const auto g = pair_gaps<dim>(s, d, side);
+  EXPECT_LE(std::count_if(g.begin(), g.end(), [](double x) { return x < 1e-3; }), 20);
 }
 
 TYPED_TEST(SequentialPlacementTest, TheSameSeedGivesTheSamePlacement) {

@@ -26,10 +26,13 @@ template <int dim> struct Particle {
   OrientVec<dim> orientation = identity_orientation<dim>();
 };
 
-/// Mass and moment of inertia of a homogeneous sphere (3D) or disk of unit thickness (2D)
-/// of density rho and diameter d: m = rho pi d^3/6, I = m d^2/10; m = rho pi d^2/4, I = m d^2/8.
+/// Volume, mass and moment of inertia of a homogeneous sphere (3D) or disk of unit thickness
+/// (2D) of density rho and diameter d: m = rho V with V = pi d^3/6 and I = m d^2/10 in 3D,
+/// V = pi d^2/4 and I = m d^2/8 in 2D.
 template <int dim> struct HomogeneousGrain {
   static double mass(double rho, double d);
+  /// Volume (area in 2D): the mass at unit density (rounds exactly as pi d^3/6, pi d^2/4).
+  static double volume(double d) { return mass(1.0, d); }
   static double inertia(double m, double d);
 };
 
