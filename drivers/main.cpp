@@ -97,6 +97,10 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--lammps-data", bench_data, "also write the initial state as a LAMMPS data file");
   bench_cmd->add_option("--static-forces", bench_forces, "also write the static force on each grain");
   bench_cmd->add_option("--json", bench_json, "also write the results as JSON to this file");
+  std::vector<std::string> check_paths;
+  auto* check_cmd = app.add_subcommand("check", "validate decks as `run` would, without running them");
+  check_cmd->add_option("decks", check_paths, "TOML decks (docs/deck.md)")->required();
+
   auto* info_cmd = app.add_subcommand("info", "what a granpack HDF5 file holds");
   info_cmd->add_option("file", file, "granpack HDF5 file")->required();
 
@@ -120,6 +124,9 @@ int main(int argc, char** argv) {
       if (!bench_forces.empty()) bench.static_forces = bench_forces;
       if (!bench_json.empty()) bench.json = bench_json;
       std::string text = granpack::run_bench(MPI_COMM_WORLD, bench);
+      if (root) std::cout << text;
+    } else if (*check_cmd) {
+      std::string text = granpack::check_decks(MPI_COMM_WORLD, {check_paths.begin(), check_paths.end()});
       if (root) std::cout << text;
     } else if (*info_cmd) {
       std::string text = granpack::describe_file(MPI_COMM_WORLD, file);

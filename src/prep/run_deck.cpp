@@ -224,4 +224,32 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   return kExitOk;
 }
 
+std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>& decks) {
+  std::ostringstream os;
+  for (const auto& path : decks) {
+    const Deck deck = load_deck_collectively(world, path);
+    os << deck.file << ": ok, dimension " << deck.sample.dimension << ", n = " << deck.sample.n
+       << ", " << deck.stages.size() << " stages:";
+    for (const auto& st : deck.stages) {
+      os << ' ' << st.kind;
+      if (st.name != st.kind) os << " '" << st.name << "'";
+      // A read stage names a file the run needs at that stage: a missing one would stop the
+      // run there, after the earlier stages' work.
+      if (const auto* r = std::get_if<ReadStage>(&st.params)) {
+        int missing = 0;
+        int rank = 0;
+        MPI_Comm_rank(world, &rank);
+        if (rank == 0) missing = std::filesystem::exists(r->file) ? 0 : 1;
+        MPI_Bcast(&missing, 1, MPI_INT, 0, world);
+        if (missing)
+          throw InputError(deck.file + ": stage " + std::to_string(st.index) + " '" + st.name +
+                           "' (read): file '" + r->file +
+                           "' does not exist (relative paths are taken from the working directory)");
+      }
+    }
+    os << '\n';
+  }
+  return os.str();
+}
+
 }  // namespace granpack

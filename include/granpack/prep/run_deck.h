@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <cstdint>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace granpack {
 
@@ -23,5 +25,11 @@ struct RunOptions {
 
 /// Collective on world. Returns the process exit code; throws granpack::Error on failure.
 int run_deck(MPI_Comm world, const RunOptions& options);
+
+/// `granpack check`: validates decks exactly as `run` does before any work, and that the files
+/// their `read` stages name exist, without running anything or writing a file. Returns one
+/// summary line per deck (dimension, n, the stages); throws InputError (exit 2) at the first
+/// deck that would not start. Collective on world.
+std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>& decks);
 
 }  // namespace granpack

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Every deck under jobs/decks passes `granpack check` (the validation `run` does before any
+# work), so a renamed or retired key cannot leave a deck that only fails when a long job
+# starts. A deck whose `read` stage names a missing file, and a deck with an unknown key, are
+# refused with exit 2, a message naming the file, and nothing written.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+fail=0; pass=0
+check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
+cd "$scratch"
+
+# Relative `read` paths are taken from the working directory: the decks run from the source
+# tree's root. One call for all (the first invalid deck stops it, named in the message).
+mapfile -t decks < <(cd "$GRANPACK_SOURCE_DIR" && find jobs/decks -name '*.toml' | sort)
+n=${#decks[@]}
+out=$(cd "$GRANPACK_SOURCE_DIR" && "$GRANPACK_EXE" check "${decks[@]}" 2>&1); rc=$?
+check "check of the $n decks: exit 0 (got $rc: $out)" '[ $rc -eq 0 ]'
+check "found the decks (got $n)" '[ $n -ge 20 ]'
+check "one summary line per deck" \
+  '[ $(grep -c ": ok, dimension [23], n = [0-9]*, [0-9]* stages:" <<<"$out") -eq $n ]'
+
+# Several decks at once: one line each.
+out=$("$GRANPACK_EXE" check "$GRANPACK_SOURCE_DIR/jobs/decks/main.toml" \
+      "$GRANPACK_SOURCE_DIR/jobs/decks/2d/method2_small.toml" 2>&1); rc=$?
+check "two decks: exit 0" '[ $rc -eq 0 ]'
+check "two decks: two lines" '[ $(grep -c ": ok," <<<"$out") -eq 2 ]'
+
+# A read stage whose file is missing.
+cat > read_missing.toml <<'TOML'
+[sample]
+dimension = 2
+n = 10
+diameter = 1.0e-3
+[material]
+density = 2500.0
+normal_law = "linear"
+normal_stiffness = 1.0e5
+friction = 0.5
+damping = 0.8
+[[stage]]
+kind = "read"
+file = "no_such_packing.h5"
+TOML
+out=$("$GRANPACK_EXE" check read_missing.toml 2>&1); rc=$?
+check "missing read file: exit 2 (got $rc)" '[ $rc -eq 2 ]'
+check "missing read file: names deck, stage and file ($out)" \
+  'grep -q "read_missing.toml: stage 0 .read. (read): file .no_such_packing.h5. does not exist" <<<"$out"'
+
+# An unknown key: the parser's message (file:line, key), as `run` gives it.
+sed 's/^friction = 0.5/frictoin = 0.5/' read_missing.toml > typo.toml
+out=$("$GRANPACK_EXE" check typo.toml 2>&1); rc=$?
+check "unknown key: exit 2 (got $rc)" '[ $rc -eq 2 ]'
+check "unknown key: named ($out)" 'grep -q "frictoin" <<<"$out"'
+check "nothing written" '[ "$(ls | sort | tr "\n" " ")" = "read_missing.toml typo.toml " ]'
+
+echo "decks_check: $pass passed, $fail failed ($n decks)"
+[ $fail -eq 0 ]
