@@ -10,6 +10,8 @@
 # jobs/slurm/mpirun_loop.sh), then one line per case from report.json.
 #   bash jobs/runs/method1_sweep.sh TABLE [RANKS] [CASES...]
 # TABLE = 2 or 3; CASE = PHI_I-MU-norr|rr, e.g. 0.13-0.5-rr; default: all twelve.
+# PRESSURE=P (Pa) replaces the deck's pressure and writes into out/2d/table<T>_p<P>/ instead
+# (table III at P* = 0.005: PRESSURE=5.0; docs/reproduction-2d.md, "The collapse under P* = 0.01").
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 table=${1:?usage: method1_sweep.sh TABLE [RANKS] [CASES...]}; shift
@@ -30,15 +32,18 @@ export OMPI_MCA_hwloc_base_binding_policy=${OMPI_MCA_hwloc_base_binding_policy:-
 for c in $cases; do
   IFS=- read -r phi mu rr <<<"$c"
   case "$rr" in norr|rr) ;; *) echo "method1_sweep: case '$c': the third part must be norr or rr" >&2; exit 2;; esac
-  dir=$root/out/2d/table$table/$c
+  dir=$root/out/2d/table$table${PRESSURE:+_p$PRESSURE}/$c
   mkdir -p "$dir"
-  /usr/bin/python3 - "$root/jobs/decks/2d/$base" "$dir/deck.toml" "$phi" "$mu" "$rr" "$k_r" <<'PY'
+  /usr/bin/python3 - "$root/jobs/decks/2d/$base" "$dir/deck.toml" "$phi" "$mu" "$rr" "$k_r" "${PRESSURE:-}" <<'PY'
 import re, sys
-src, dst, phi, mu, rr, k_r = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4]), sys.argv[5], sys.argv[6]
+src, dst, phi, mu, rr, k_r, pressure = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4]), sys.argv[5], sys.argv[6], sys.argv[7]
 text = open(src).read()
 text, n1 = re.subn(r"(?m)^phi = .*$", f"phi = {phi}", text)
 text, n2 = re.subn(r"(?m)^friction = .*$", f"friction = {mu}", text)
 assert n1 == 1 and n2 == 1, f"{src} changed shape"
+if pressure:
+    text, n3 = re.subn(r"(?m)^pressure = .*$", f"pressure = {float(pressure)!r}", text)
+    assert n3 == 1, f"{src}: one pressure line expected, found {n3}"
 if rr == "rr":
     # table I: K_r = 1e-4 K_N a^2, mu_r = 1e-2 mu a (a = 1e-3 m)
     text = re.sub(r"(?m)^(damping = .*)$",
@@ -50,7 +55,7 @@ PY
   [ -e "$dir/final.h5" ] || bash "$root/jobs/slurm/mpirun_loop.sh" "$dir/deck.toml" "$dir" "$ranks"
   echo "[method1_sweep] table $table: $c done"
 done
-/usr/bin/python3 - "$root/out/2d/table$table" $cases <<'PY'
+/usr/bin/python3 - "$root/out/2d/table$table${PRESSURE:+_p$PRESSURE}" $cases <<'PY'
 import json, sys, os
 base, cases = sys.argv[1], sys.argv[2:]
 # z: force-carrying contacts per disk; z_int: every interaction, distant pairs included
