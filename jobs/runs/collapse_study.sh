@@ -4,7 +4,7 @@
 # the committed series-B-with-RR P* = 0 configuration and from the series-A aggregate, with
 # the cell mass, the strain-rate cap and the pressure varied. One case after the other, each
 # into out/2d/collapse_study/<case>/ (restartable through jobs/slurm/mpirun_loop.sh), then
-# one line per case (Phi, z_int, steps) from report.json.
+# one line per case from report.json (jobs/tools/case_table.py).
 #   bash jobs/runs/collapse_study.sh [RANKS] [CASES...]
 # CASE = B_rr | B_rr_M0.001 | B_rr_M0.001_cap0.015 | B_rr_M0.001_P0.005 | B_rr_perlength |
 #        A | A_M0.001; default: all. Method 1 at P* = 0.005 (the other half of the pressure
@@ -51,17 +51,4 @@ PY
   [ -e "$dir/final.h5" ] || bash jobs/slurm/mpirun_loop.sh "$dir/deck.toml" "$dir" "$ranks"
   echo "[collapse_study] $c done"
 done
-/usr/bin/python3 - out/2d/collapse_study $cases <<'PY'
-import json, os, sys
-base, cases = sys.argv[1], sys.argv[2:]
-print(f"{'case':>22} {'Phi':>8} {'z_int':>6} {'steps':>9} {'wall s':>8}")
-for c in cases:
-    try:
-        r = json.load(open(os.path.join(base, c, "report.json")))
-    except OSError:
-        print(f"{c:>22}  (no report.json)")
-        continue
-    s = next(s for s in r["stages"] if s["kind"] == "compress")
-    z = s.get("values", {}).get("z_interactions", float("nan"))
-    print(f"{c:>22} {s['phi']:8.4f} {z:6.3f} {s['steps']:9d} {s['wall_seconds']:8.0f}")
-PY
+/usr/bin/python3 jobs/tools/case_table.py out/2d/collapse_study $cases

@@ -7,7 +7,7 @@
 # rolling damping zeta_r = 0.1 that [GRC] do not have, as in the other RR decks). One sample
 # (seed 1) each, one after the other, each into out/2d/table<T>/<case>/ (restartable: a
 # directory with a checkpoint and no final.h5 is continued through
-# jobs/slurm/mpirun_loop.sh), then one line per case from report.json.
+# jobs/slurm/mpirun_loop.sh), then one line per case from report.json (jobs/tools/case_table.py).
 #   bash jobs/runs/method1_sweep.sh TABLE [RANKS] [CASES...]
 # TABLE = 2 or 3; CASE = PHI_I-MU-norr|rr, e.g. 0.13-0.5-rr; default: all twelve.
 # PRESSURE=P (Pa) replaces the deck's pressure and writes into out/2d/table<T>_p<P>/ instead
@@ -55,21 +55,4 @@ PY
   [ -e "$dir/final.h5" ] || bash "$root/jobs/slurm/mpirun_loop.sh" "$dir/deck.toml" "$dir" "$ranks"
   echo "[method1_sweep] table $table: $c done"
 done
-/usr/bin/python3 - "$root/out/2d/table$table${PRESSURE:+_p$PRESSURE}" $cases <<'PY'
-import json, sys, os
-base, cases = sys.argv[1], sys.argv[2:]
-# z: force-carrying contacts per disk; z_int: every interaction, distant pairs included
-# ([GRC]'s z with cohesion, table III); z* and x0: [AR]'s rattler rule.
-print(f"{'case':>16} {'Phi':>8} {'z':>6} {'z_int':>6} {'z*':>6} {'x0':>6} {'steps':>9} {'wall s':>8}")
-for c in cases:
-    try:
-        r = json.load(open(os.path.join(base, c, "report.json")))
-    except OSError:
-        print(f"{c:>16}  (no report.json)")
-        continue
-    s = next(s for s in r["stages"] if s["kind"] == "compress")
-    z_int = s.get("values", {}).get("z_interactions")
-    z_int = f"{z_int:6.3f}" if isinstance(z_int, (int, float)) else f"{'-':>6}"
-    print(f"{c:>16} {s['phi']:8.4f} {s['z']:6.3f} {z_int} {s['z_star']:6.3f} {s['x0']:6.3f} "
-          f"{s['steps']:9d} {s['wall_seconds']:8.0f}")
-PY
+/usr/bin/python3 "$root/jobs/tools/case_table.py" "$root/out/2d/table$table${PRESSURE:+_p$PRESSURE}" $cases
