@@ -225,6 +225,8 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
 }
 
 std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>& decks) {
+  int rank = 0;
+  MPI_Comm_rank(world, &rank);
   std::ostringstream os;
   for (const auto& path : decks) {
     const Deck deck = load_deck_collectively(world, path);
@@ -237,8 +239,6 @@ std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>
       // run there, after the earlier stages' work.
       if (const auto* r = std::get_if<ReadStage>(&st.params)) {
         int missing = 0;
-        int rank = 0;
-        MPI_Comm_rank(world, &rank);
         if (rank == 0) missing = std::filesystem::exists(r->file) ? 0 : 1;
         MPI_Bcast(&missing, 1, MPI_INT, 0, world);
         if (missing)

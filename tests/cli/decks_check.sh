@@ -48,6 +48,15 @@ check "missing read file: exit 2 (got $rc)" '[ $rc -eq 2 ]'
 check "missing read file: names deck, stage and file ($out)" \
   'grep -q "read_missing.toml: stage 0 .read. (read): file .no_such_packing.h5. does not exist" <<<"$out"'
 
+# On 2 ranks (rank 0 reads and broadcasts): the same lines, and the same refusal without a hang.
+out=$(cd "$GRANPACK_SOURCE_DIR" && mpiexec -n 2 "$GRANPACK_EXE" check jobs/decks/main.toml \
+      jobs/decks/2d/collapse/seriesA_P0.01.toml 2>&1); rc=$?
+check "2 ranks: exit 0 (got $rc: $out)" '[ $rc -eq 0 ]'
+check "2 ranks: one line per deck, printed once" '[ $(grep -c ": ok," <<<"$out") -eq 2 ]'
+out=$(timeout 120 mpiexec -n 2 "$GRANPACK_EXE" check read_missing.toml 2>&1); rc=$?
+check "2 ranks, missing read file: exit 2 (got $rc)" '[ $rc -eq 2 ]'
+check "2 ranks, missing read file: said once" '[ $(grep -c "does not exist" <<<"$out") -eq 1 ]'
+
 # An unknown key: the parser's message (file:line, key), as `run` gives it.
 sed 's/^friction = 0.5/frictoin = 0.5/' read_missing.toml > typo.toml
 out=$("$GRANPACK_EXE" check typo.toml 2>&1); rc=$?
