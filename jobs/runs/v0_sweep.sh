@@ -8,21 +8,32 @@
 # (collisions at 9.48 V* already reach 0.1 of the smallest radius): those runs aggregate at
 # kappa = 1e4 directly (K_N = 1e7 N/m, K_r = 1e-3 N m, the default overlap limit) and skip the
 # stiffening.
-#   bash jobs/runs/v0_sweep.sh [RANKS] [RATIOS...]
+# SERIES=A runs [GRC]'s own protocol instead (their table VI samples are series A):
+# jobs/decks/2d/method2_seriesA_rr_quench.toml, kappa = 1e5 throughout, no stiffening, into
+# out/2d/v0A_<ratio>/. About 30x the time steps of the kappa = 1e2 aggregation: V0/V* = 0.95
+# takes about an hour on one core, 0.095 several.
+#   [SERIES=A] bash jobs/runs/v0_sweep.sh [RANKS] [RATIOS...]
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 ranks=${1:-2}; shift || true
 ratios=${*:-"9.5 95 0.95 0.095"}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+series=${SERIES:-B}
+case "$series" in
+  A) deck=method2_seriesA_rr_quench.toml ;;
+  B) deck=method2_v0_sweep.toml ;;
+  *) echo "v0_sweep: SERIES must be A or B, got '$series'" >&2; exit 2 ;;
+esac
 for r in $ratios; do
-  dir=$root/out/2d/v0_$r
+  dir=$root/out/2d/v0$([ "$series" = A ] && echo A)_$r
   mkdir -p "$dir"
-  /usr/bin/python3 - "$root/jobs/decks/2d/method2_v0_sweep.toml" "$dir/deck.toml" "$r" <<'PY'
+  /usr/bin/python3 - "$root/jobs/decks/2d/$deck" "$dir/deck.toml" "$r" "$series" <<'PY'
 import re, sys
-src, dst, ratio = sys.argv[1], sys.argv[2], float(sys.argv[3])
+src, dst, ratio, series = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4]
 text = open(src).read()
-text = re.sub(r"(?m)^velocity_ratio = .*$", f"velocity_ratio = {ratio}", text)
-if ratio > 20:
+text, n = re.subn(r"(?m)^velocity_ratio = .*$", f"velocity_ratio = {ratio}", text)
+assert n == 1, f"{src}: one velocity_ratio line expected, found {n}"
+if series == "B" and ratio > 20:
     text = re.sub(r"(?m)^normal_stiffness = .*$", "normal_stiffness = 1.0e7", text)
     text = re.sub(r"(?m)^rolling_stiffness = .*$", "rolling_stiffness = 1.0e-3", text)
     text = re.sub(r"(?m)^max_overlap = .*$", "max_overlap = 0.1", text)
