@@ -11,7 +11,7 @@
 # SERIES=A runs [GRC]'s own protocol instead (their table VI samples are series A):
 # jobs/decks/2d/method2_seriesA_rr_quench.toml, kappa = 1e5 throughout, no stiffening, into
 # out/2d/v0A_<ratio>/. About 30x the time steps of the kappa = 1e2 aggregation: V0/V* = 0.95
-# takes about an hour on one core, 0.095 several.
+# aggregates in half an hour on one core (16 M steps), 0.095 needs about 150 M steps.
 #   [SERIES=A] bash jobs/runs/v0_sweep.sh [RANKS] [RATIOS...]
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
