@@ -7,18 +7,19 @@
 # one line per case from report.json (jobs/tools/case_table.py).
 #   bash jobs/runs/collapse_study.sh [RANKS] [CASES...]
 # CASE = B_rr | B_rr_M0.001 | B_rr_M0.001_cap0.015 | B_rr_M0.001_P0.005 | B_rr_perlength |
-#        A | A_M0.001; default: all. Method 1 at P* = 0.005 (the other half of the pressure
+#        A | A_M0.001 | A_rr | A_rr_zr0; default: all. Method 1 at P* = 0.005 (the other half of the pressure
 # comparison): PRESSURE=5.0 bash jobs/runs/method1_sweep.sh 3 1 0.36-0.15-norr 0.36-0.5-rr
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 cd "$root"  # the decks' read paths are relative to the source root
 ranks=${1:-1}; shift || true
-cases=${*:-"B_rr B_rr_M0.001 B_rr_M0.001_cap0.015 B_rr_M0.001_P0.005 B_rr_perlength A A_M0.001"}
+cases=${*:-"B_rr B_rr_M0.001 B_rr_M0.001_cap0.015 B_rr_M0.001_P0.005 B_rr_perlength A A_M0.001 A_rr A_rr_zr0"}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_hwloc_base_binding_policy=${OMPI_MCA_hwloc_base_binding_policy:-none}
 for c in $cases; do
   case "$c" in
     B_rr*) base=jobs/decks/2d/collapse/seriesB_rr_P0.01.toml ;;
+    A_rr*) base=jobs/decks/2d/collapse/seriesA_rr_P0.01.toml ;;
     A*) base=jobs/decks/2d/collapse/seriesA_P0.01.toml ;;
     *) echo "collapse_study: unknown case '$c'" >&2; exit 2 ;;
   esac
@@ -42,6 +43,8 @@ for p in parts[1:]:
     elif p.startswith("P"):
         # P* = P a / F0 with a = 1e-3 m, F0 = 1 N
         sub(r"^pressure = 10.0$", f"pressure = {float(p[1:]) * 1e3:g}")
+    elif p.startswith("zr"):
+        sub(r"^rolling_damping = .*$", f"rolling_damping = {float(p[2:])!r}")
     elif p == "perlength":
         sub(r"^(cell_mass = .*)$", r"\1\ncell_mass_per_length = true")
     elif p != "rr":
