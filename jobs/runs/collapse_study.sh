@@ -34,17 +34,23 @@ def sub(pattern, repl):
     text, n = re.subn(pattern, repl, text, flags=re.M)
     assert n == 1, f"{src}: {pattern!r} matched {n} times"
 parts = case.split("_")
+def number(text):
+    try:
+        return float(text)
+    except ValueError:
+        raise SystemExit(f"collapse_study: case {case}: '{text}' is not a number")
 for p in parts[1:]:
     if p.startswith("M"):
-        sub(r"^cell_mass = .*$", f"cell_mass = {p[1:]}")
+        sub(r"^cell_mass = .*$", f"cell_mass = {number(p[1:])!r}")
     elif p.startswith("cap"):
         # cap in units of 1/T0, T0 = 1.4012e-3 s
-        sub(r"^strain_rate_max = .*$", f"strain_rate_max = {float(p[3:]) / 1.4012e-3:.2f}")
+        sub(r"^strain_rate_max = .*$", f"strain_rate_max = {number(p[3:]) / 1.4012e-3:.2f}")
     elif p.startswith("P"):
         # P* = P a / F0 with a = 1e-3 m, F0 = 1 N
-        sub(r"^pressure = 10.0$", f"pressure = {float(p[1:]) * 1e3:g}")
+        sub(r"^pressure = 10.0$", f"pressure = {number(p[1:]) * 1e3:g}")
+        sub(r'^name = "P0.01"$', f'name = "P{p[1:]}"')
     elif p.startswith("zr"):
-        sub(r"^rolling_damping = .*$", f"rolling_damping = {float(p[2:])!r}")
+        sub(r"^rolling_damping = .*$", f"rolling_damping = {number(p[2:])!r}")
     elif p == "perlength":
         sub(r"^(cell_mass = .*)$", r"\1\ncell_mass_per_length = true")
     elif p != "rr":
