@@ -7,13 +7,13 @@
 # one line per case from report.json (jobs/tools/case_table.py).
 #   bash jobs/runs/collapse_study.sh [RANKS] [CASES...]
 # CASE = B_rr | B_rr_M0.001 | B_rr_M0.001_cap0.015 | B_rr_M0.001_P0.005 | B_rr_perlength |
-#        A | A_M0.001 | A_rr | A_rr_zr0 | B | B_nq; default: all. Method 1 at P* = 0.005 (the other half of the pressure
+#        A | A_M0.001 | A_nq | A_rr | A_rr_zr0 | B | B_nq; default: all. Method 1 at P* = 0.005 (the other half of the pressure
 # comparison): PRESSURE=5.0 bash jobs/runs/method1_sweep.sh 3 1 0.36-0.15-norr 0.36-0.5-rr
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 cd "$root"  # the decks' read paths are relative to the source root
 ranks=${1:-1}; shift || true
-cases=${*:-"B_rr B_rr_M0.001 B_rr_M0.001_cap0.015 B_rr_M0.001_P0.005 B_rr_perlength A A_M0.001 A_rr A_rr_zr0 B B_nq"}
+cases=${*:-"B_rr B_rr_M0.001 B_rr_M0.001_cap0.015 B_rr_M0.001_P0.005 B_rr_perlength A A_M0.001 A_nq A_rr A_rr_zr0 B B_nq"}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_hwloc_base_binding_policy=${OMPI_MCA_hwloc_base_binding_policy:-none}
 for c in $cases; do
@@ -52,9 +52,9 @@ for p in parts[1:]:
         sub(r'^name = "P0.01"$', f'name = "P{p[1:]}"')
     elif p.startswith("zr"):
         sub(r"^rolling_damping = .*$", f"rolling_damping = {number(p[2:])!r}")
-    elif p == "nq":
-        sub(r'^file = "docs/data/2d/seriesB_P0_kappa1e2.h5"$',
-            'file = "docs/data/2d/seriesB_noquench_aggregate.h5"')
+    elif p == "nq":  # the aggregate of the same deck without velocity quenches
+        sub(r'^file = "docs/data/2d/series(A|B)_(aggregate|P0_kappa1e2).h5"$',
+            r'file = "docs/data/2d/series\1_noquench_aggregate.h5"')
     elif p == "perlength":
         sub(r"^(cell_mass = .*)$", r"\1\ncell_mass_per_length = true")
     elif p != "rr":
