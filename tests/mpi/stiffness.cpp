@@ -231,7 +231,9 @@ template <int dim> void expect_matches_dense(const std::string& tag, const std::
   // Measured with distant pairs; without, K(1) = ᵀG 𝒦 G is positive semi-definite, which the
   // dense spectrum confirms.
   EXPECT_EQ(json["K1_negative_pivots"].get<std::int64_t>(), d.k1_negative) << tag;
-  if (json["distant_pairs"].get<std::int64_t>() == 0) EXPECT_EQ(d.k1_negative, 0) << tag;
+  if (json["distant_pairs"].get<std::int64_t>() == 0) {
+    EXPECT_EQ(d.k1_negative, 0) << tag;
+  }
   std::printf("[ stiffness ] %s, threshold %g: k = %lld (dense %lld), H = %lld, K(1) negative %lld (dense %lld)\n",
               tag.c_str(), threshold, (long long)json["mechanisms"].get<std::int64_t>(), (long long)d.mechanisms,
               (long long)json["H"].get<std::int64_t>(), (long long)json["K1_negative_pivots"].get<std::int64_t>(),
