@@ -6,10 +6,8 @@
 # (jobs/bench/run_bench.sh, with LAMMPS) is not a CI test.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
-fail=0; pass=0
-check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
 packing="$GRANPACK_SOURCE_DIR/docs/data/A_n4000_seed1.h5"
 
 for np in 1 2; do
@@ -34,5 +32,4 @@ rc=$?; check "1 and 2 ranks agree on the static state ($(tail -1 "$scratch/py.tx
 mpiexec -n 1 "$GRANPACK_EXE" bench "$packing" --replicate 0 1 1 > "$scratch/bad.txt" 2>&1
 rc=$?; check "--replicate 0 refused with exit 2" "[ $rc -eq 2 ] && grep -q 'replicate' '$scratch/bad.txt'"
 
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+checks_done bench_smoke

@@ -5,10 +5,8 @@
 # refused with exit 2, a message naming the file, and nothing written.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
-fail=0; pass=0
-check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
 cd "$scratch"
 
 # Relative `read` paths are taken from the working directory: the decks run from the source
@@ -64,5 +62,4 @@ check "unknown key: exit 2 (got $rc)" '[ $rc -eq 2 ]'
 check "unknown key: named ($out)" 'grep -q "frictoin" <<<"$out"'
 check "nothing written" '[ "$(ls | sort | tr "\n" " ")" = "read_missing.toml typo.toml " ]'
 
-echo "decks_check: $pass passed, $fail failed ($n decks)"
-[ $fail -eq 0 ]
+checks_done decks_check "($n decks)"

@@ -13,11 +13,9 @@ set -u
 tool="$GRANPACK_SOURCE_DIR/jobs/tools/plot_2d.py"
 data="$GRANPACK_SOURCE_DIR/docs/data"
 py=/usr/bin/python3
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
 export MPLCONFIGDIR="$scratch/mpl"
-fail=0; pass=0
-check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
 
 cat > "$scratch/coh.toml" <<'EOF'
 # 120 cohesive disks, kappa = a K_N / F0 = 1e3, D0 = 0.05 a, P* = 0.01, loose tolerances.
@@ -190,5 +188,4 @@ bad not_hdf5 "text.h5.*not a readable HDF5 file" "$scratch/text.h5"
 bad three_d "D_n4000_seed1.h5.*3D packing" "$mu05" "$data/D_n4000_seed1.h5"
 bad labels "labels has 1 labels for 2 files" "$mu05" "$mu015" --labels one
 
-echo "plot_2d: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+checks_done plot_2d

@@ -7,11 +7,9 @@ set -u
 : "${GRANPACK_SOURCE_DIR:?}"
 tool="$GRANPACK_SOURCE_DIR/jobs/tools/plot_analysis.py"
 py=/usr/bin/python3
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
 export MPLCONFIGDIR="$scratch/mpl"
-fail=0; pass=0
-check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
 is_png() { [ -s "$1" ] && [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
 
 # Synthetic analyze output: DTS-shaped P(f), a g(r) with a contact peak, z(h) = z0 + A h^beta.
@@ -114,5 +112,4 @@ check "2D density file: ik.png is a non-empty PNG" "is_png '$scratch/ik/ik.png'"
 check "3D file left out of ik.png with a note" "grep -q 'D: no density' '$scratch/ik.txt'"
 check "3D file alone: no ik.png" "[ ! -e '$scratch/one/ik.png' ]"
 
-echo "plot_analysis: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+checks_done plot_analysis

@@ -4,10 +4,8 @@
 # 2 ranks on 1 rank; `granpack stiffness` on a packing without contacts refuses it (exit 2).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
-fail=0; pass=0
-check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
 
 out="$scratch/main"
 cat > "$scratch/lattice.toml" <<'TOML'
@@ -59,5 +57,4 @@ rc=$?; check "info on a missing file: exit 2" "[ $rc -eq 2 ] && grep -q 'does_no
 
 "$GRANPACK_EXE" --version | grep -q "granpack"
 rc=$?; check "--version" "[ $rc -eq 0 ]"
-echo "run and info: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+checks_done "run and info"

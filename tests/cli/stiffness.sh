@@ -5,10 +5,8 @@
 # cohesive packing is refused with exit 3 ([GRC] App. A is implemented in 2D).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
-fail=0; pass=0
-check() { if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); fi; }
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
 
 mpiexec -n 2 "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/fcc_hertz.toml" -o "$scratch/fcc" -q > "$scratch/run.txt" 2>&1
 rc=$?; check "fcc run exits 0" "[ $rc -eq 0 ]"
@@ -47,5 +45,4 @@ check "cohesive fcc run exits 0 ($(tail -2 "$scratch/runc.txt"))" "[ $rc -eq 0 ]
 rc=$?
 check "3D cohesive: exit 3 ($(tail -1 "$scratch/c.txt"))" "[ $rc -eq 3 ] && grep -q 'fcc_c/final.h5: the stiffness of 3D packings with cohesion' '$scratch/c.txt' && [ ! -e '$scratch/c.json' ]"
 
-echo "stiffness.sh: $pass passed, $fail failed"
-[ $fail -eq 0 ]
+checks_done stiffness.sh
