@@ -484,6 +484,8 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
                                     "steps between cluster counts");
     g.quench_interval = rk.integer_or("quench_interval", 0, Range::non_negative(),
                                       "steps between velocity quenches once there is one cluster (0: never)");
+    g.quench_delay = rk.integer_or("quench_delay", 0, Range::non_negative(),
+                                   "steps from the first single cluster to the first quench");
     g.tolerance = read_tolerances(rk);
     g.seed = read_seed(rk, sample, index);
     st.params = g;

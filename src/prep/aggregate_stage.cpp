@@ -81,6 +81,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
   std::int64_t first_step = ctx.system.step;
   double first_time = ctx.system.time;
   std::int64_t clusters = -1, last_quench = 0, quenches = 0;
+  std::int64_t one_cluster_step = -1;  // first step at which a count found one cluster
   if (!resume.is_null()) {
     first_step = resume.at("first_step").get<std::int64_t>();
     first_time = exact_double(resume.at("first_time"));
@@ -88,6 +89,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
     // Absent from checkpoints written before quenches existed (then there were none).
     last_quench = resume.value("last_quench", std::int64_t(0));
     quenches = resume.value("quenches", std::int64_t(0));
+    one_cluster_step = resume.value("one_cluster_step", std::int64_t(-1));
   } else {
     ctx.system.cell.rate.setZero();
     draw_maxwell_velocities(ctx, v0, g.seed);
@@ -106,7 +108,8 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
                           {"first_time", exact(first_time)},
                           {"clusters", clusters},
                           {"last_quench", last_quench},
-                          {"quenches", quenches}};
+                          {"quenches", quenches},
+                          {"one_cluster_step", one_cluster_step}};
   });
   MdEngine<dim> engine(ctx, contact_law_of<dim>(mat), s);
   const EquilibriumScales scales = EquilibriumScales::of(dim, a, 0.0, f0);
@@ -118,6 +121,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
   while (true) {
     const std::int64_t steps = ctx.system.step - first_step;
     if (steps % g.cluster_every == 0) clusters = clusters_of(ctx, engine);
+    if (clusters == 1 && one_cluster_step < 0) one_cluster_step = ctx.system.step;
     // After a quench the kinetic energy needs time to show what the forces do: the criteria
     // are tried only half a quench interval or more after the last one.
     const bool settled = last_quench == 0 || 2 * (ctx.system.step - last_quench) >= g.quench_interval;
@@ -137,6 +141,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
     // uses the same quench as a test of a static packing); the criteria are judged before a
     // quench and then on the motion that follows (never on the zeroed velocities).
     if (g.quench_interval > 0 && clusters == 1 && steps % 50 == 0 &&
+        ctx.system.step - one_cluster_step >= g.quench_delay &&
         ctx.system.step - last_quench >= g.quench_interval) {
       auto& p = ctx.system.particles;
       for (std::size_t i = 0; i < p.size(); ++i) {
@@ -144,7 +149,8 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
         p.angular_velocity[i].setZero();
       }
       if (last_quench == 0) ctx.log->progress("  step " + std::to_string(ctx.system.step) +
-                                              ": one cluster; velocity quenches from now on");
+                                              ": velocity quenches from now on (one cluster since step " +
+                                              std::to_string(one_cluster_step) + ")");
       last_quench = ctx.system.step;
       ++quenches;
     }

@@ -19,7 +19,9 @@
 # - `granpack analyze` of P0.h5 reports the [GRC] coordination the file gives;
 # - the aggregation with velocity quenches (quench_interval) under [GRC]'s own criteria: it
 #   quenched, ended in equilibrium with one cluster, and the file's velocities are not the
-#   zeroed ones of a quench (kinetic energy > 0 and < 5e-8 F0 a per grain, net force < 1e-4 F0).
+#   zeroed ones of a quench (kinetic energy > 0 and < 5e-8 F0 a per grain, net force < 1e-4 F0);
+#   with quench_delay, the first quench comes that many steps after the aggregate became one
+#   cluster.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
@@ -108,7 +110,7 @@ q=$scratch/quench
 awk '/^\[\[stage\]\]/ { k++ } k < 3' "$GRANPACK_SOURCE_DIR/jobs/decks/2d/method2_small.toml" |   # random, aggregate
   sed -e 's/^tolerance_force = 1e-3/tolerance_force = 1e-4/' -e 's/^tolerance_moment = 1e-3/tolerance_moment = 1e-4/' \
       -e 's/^tolerance_kinetic = 1e-6/tolerance_kinetic = 5e-8/' \
-      -e 's/^cluster_every = 5000/cluster_every = 5000\nquench_interval = 20000/' > "$scratch/quench.toml"
+      -e 's/^cluster_every = 5000/cluster_every = 5000\nquench_interval = 20000\nquench_delay = 40000/' > "$scratch/quench.toml"
 printf '[[stage]]\nkind = "write"\nfile = "aggregate.h5"\n' >> "$scratch/quench.toml"
 t0=$(date +%s)
 mpiexec -n $np "$GRANPACK_EXE" run "$scratch/quench.toml" -o "$q" -q < /dev/null > "$scratch/q.txt" 2>&1 \
@@ -187,6 +189,13 @@ qr = {s["name"]: s for s in json.load(open(f"{quench}/report.json"))["stages"]}[
 if not qr.get("equilibrated") or qr["values"]["quenches"] < 1 or qr["values"]["clusters"] != 1:
     fails.append(f"quenched aggregation: equilibrated {qr.get('equilibrated')}, values {qr['values']}")
 check_file(f"{quench}/aggregate.h5", 1e5, None, "quenched aggregate", 1e-4)
+# quench_delay: the first quench comes 40 000 steps (to the next 50-step check) after the first
+# cluster count that found one cluster, not at that count.
+import re
+started = re.findall(r"step (\d+): velocity quenches from now on \(one cluster since step (\d+)\)",
+                     open(f"{quench}/log.txt").read())
+if len(started) != 1 or not 40000 <= int(started[0][0]) - int(started[0][1]) < 40050:
+    fails.append(f"quench_delay = 40000: first quench / one cluster at steps {started}")
 import h5py
 with h5py.File(f"{quench}/aggregate.h5", "r") as f:
     v = f["particles/velocity"][:]

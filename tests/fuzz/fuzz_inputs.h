@@ -174,7 +174,7 @@ inline const std::vector<std::string>& deck_keys() {
       "tangential_stiffness_ratio", "friction", "damping", "time_step_fraction", "skin",
       "log_every", "quiet", "checkpoint_every_steps", "checkpoint_every_seconds", "kind", "name",
       "lattice", "phi", "cells", "pressure", "stress", "fixed_axes", "inertia_max", "cell_mass",
-      "max_steps", "quench_interval", "tolerance_force", "tolerance_stress",
+      "max_steps", "quench_interval", "quench_delay", "tolerance_force", "tolerance_stress",
       "tolerance_kinetic", "file", "collisions_per_grain", "growth_rate", "rescale_every",
       "report_phi", "factor", "count", "write", "force", "tolerance", "sample", "material",
       "numerics", "output", "stage"};

@@ -167,6 +167,12 @@ TEST(Deck, MethodTwoKeys) {
   EXPECT_EQ(std::get<AggregateStage>(parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(agg, "quench_interval = 20000\n", "")), "q0.toml").stages[2].params).quench_interval, 0);
   EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(agg, "20000", "-5"))).find("quench_interval: = -5 is out of range"),
             std::string::npos);
+  // quench_delay likewise (0 by default: quenches from the first single cluster).
+  EXPECT_EQ(std::get<AggregateStage>(q.stages[2].params).quench_delay, 0);
+  const std::string delayed = stage(agg, "quench_interval = 20000\n", "quench_interval = 20000\nquench_delay = 450000\n");
+  EXPECT_EQ(std::get<AggregateStage>(parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", delayed), "qd.toml").stages[2].params).quench_delay, 450000);
+  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(delayed, "450000", "-1"))).find("quench_delay: = -1 is out of range"),
+            std::string::npos);
 }
 
 TEST(Deck, PerAxisStressAndFixedAxes) {

@@ -150,6 +150,9 @@ struct AggregateStage {
   /// Once all grains form one cluster, steps between velocity quenches (0: never): drains
   /// the slow undamped motions of the floppy aggregate (a deviation from [GRC], docs/deck.md).
   std::int64_t quench_interval = 0;
+  /// Steps from the first single cluster to the first quench: the aggregate's floppy parts
+  /// first fold freely and close their loops, as in [GRC]; the quenches then only drain.
+  std::int64_t quench_delay = 0;
   EquilibriumTolerances tolerance;   ///< force, moment, kinetic (the cell is fixed)
   friend bool operator==(const AggregateStage&, const AggregateStage&) = default;
 };
