@@ -299,6 +299,9 @@ void read_compress_controls(TableReader& rk, CompressStage& c) {
   c.max_steps = rk.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: none)");
   c.quench_interval = rk.integer_or("quench_interval", 0, Range::non_negative(),
                                     "steps between velocity quenches of a static packing (0: never)");
+  c.quench_always = rk.choice_or("quench_when", "static", {"static", "always"},
+                                 "which states are quenched: static ones (force and stress criteria "
+                                 "hold) or all, the cell's rate too") == "always";
   c.tolerance = read_tolerances(rk);
 }
 

@@ -146,24 +146,33 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
     const std::int64_t done = ctx.system.step - first_step;
     if (done % check_every == 0) {
       m = engine.measure(scales, with_moment);
-      if (m.satisfies(c.tolerance)) {
+      // After an unconditional quench the motion needs time to show what the forces do.
+      const bool settled = !c.quench_always || quenches == 0 ||
+                           2 * (ctx.system.step - last_quench) >= c.quench_interval;
+      if (settled && m.satisfies(c.tolerance)) {
         equilibrated = true;
         break;
       }
       // [AR] sec. III: a static packing whose velocities are set to zero must not regain
       // kinetic energy. Quenching lets the criteria be met when the remaining energy sits
       // in nearly undamped modes (free rolling of divalent grains, rattlers in their cages).
-      if (c.quench_interval > 0 && m.static_state(c.tolerance) &&
+      if (c.quench_interval > 0 && (c.quench_always || m.static_state(c.tolerance)) &&
           ctx.system.step - last_quench >= c.quench_interval) {
         auto& p = ctx.system.particles;
         for (std::size_t i = 0; i < p.size(); ++i) {
           p.velocity[i].setZero();
           p.angular_velocity[i].setZero();
         }
+        if (c.quench_always) ctx.system.cell.rate.setZero();
         last_quench = ctx.system.step;
         ++quenches;
-        ctx.log->progress("  step " + std::to_string(ctx.system.step) +
-                          ": static (force and stress criteria hold), velocities set to zero");
+        if (!c.quench_always)
+          ctx.log->progress("  step " + std::to_string(ctx.system.step) +
+                            ": static (force and stress criteria hold), velocities set to zero");
+        else if (quenches == 1)
+          ctx.log->progress("  step " + std::to_string(ctx.system.step) +
+                            ": velocities and cell rate set to zero every " +
+                            std::to_string(c.quench_interval) + " steps from now on");
       }
     }
     if (c.max_steps > 0 && done >= c.max_steps) break;

@@ -167,6 +167,12 @@ TEST(Deck, MethodTwoKeys) {
   EXPECT_EQ(std::get<AggregateStage>(parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(agg, "quench_interval = 20000\n", "")), "q0.toml").stages[2].params).quench_interval, 0);
   EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(agg, "20000", "-5"))).find("quench_interval: = -5 is out of range"),
             std::string::npos);
+  // compress: quench_when is "static" by default, "always" on request, nothing else.
+  EXPECT_FALSE(std::get<CompressStage>(parse_deck(kGood, "c.toml").stages[0].params).quench_always);
+  const Deck qa = parse_deck(stage(kGood, "pressure = 100.0", "pressure = 100.0\nquench_interval = 1000\nquench_when = \"always\""), "qa.toml");
+  EXPECT_TRUE(std::get<CompressStage>(qa.stages[0].params).quench_always);
+  EXPECT_NE(message_of(stage(kGood, "pressure = 100.0", "pressure = 100.0\nquench_when = \"never\"")).find("quench_when"),
+            std::string::npos);
   // quench_delay likewise (0 by default: quenches from the first single cluster).
   EXPECT_EQ(std::get<AggregateStage>(q.stages[2].params).quench_delay, 0);
   const std::string delayed = stage(agg, "quench_interval = 20000\n", "quench_interval = 20000\nquench_delay = 450000\n");

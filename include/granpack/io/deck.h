@@ -84,6 +84,10 @@ struct CompressStage {
   /// Steps between velocity quenches once the force and stress criteria hold but the kinetic
   /// one does not (0: never). [AR] sec. III checks stability by zeroing the velocities.
   std::int64_t quench_interval = 0;
+  /// Quench every interval whatever the state, the cell's rate too (quench_when = "always"):
+  /// drains a floppy packing whose cell breathes on its mechanisms with nothing to damp it.
+  /// The criteria are then judged only half an interval or more after a quench.
+  bool quench_always = false;
   EquilibriumTolerances tolerance;  ///< [AR] sec. III criteria
   friend bool operator==(const CompressStage&, const CompressStage&) = default;
 };
