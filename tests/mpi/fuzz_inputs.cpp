@@ -79,12 +79,16 @@ fs::path failure_dir() {
 class AddressSpaceCap {
 public:
   explicit AddressSpaceCap(rlim_t bytes) {
-#if !defined(__SANITIZE_ADDRESS__) && !defined(__has_feature)
-    active_ = true;
+    // GCC marks ASan with __SANITIZE_ADDRESS__, clang with __has_feature. GCC's macro is tested
+    // first: Eigen (included through fuzz_inputs.h) defines __has_feature(x) as 0 for
+    // compilers without it, which made GCC + ASan builds cap the address space and fail.
+#if defined(__SANITIZE_ADDRESS__)
 #elif defined(__has_feature)
 #if !__has_feature(address_sanitizer)
     active_ = true;
 #endif
+#else
+    active_ = true;
 #endif
     if (!active_ || getrlimit(RLIMIT_AS, &old_) != 0) {
       active_ = false;
