@@ -2,16 +2,11 @@
 """One line per case from BASE/<case>/report.json: the last `compress` stage's Phi, z, z_int
 (every interaction, distant pairs included: [GRC]'s z with cohesion), z* and x0 ([AR]'s
 rattler rule), steps and wall seconds. Used by the jobs/runs/ sweeps.
-
-    /usr/bin/python3 jobs/tools/case_table.py BASE CASE... [--stage NAME] [--mean]
-
---stage NAME  the stage of that name instead of the last compress stage (e.g. P0)
---mean        a last line with the mean and sample standard deviation of Phi and z_int over
-              the cases that have a report (samples of one deck: jobs/runs/seeds.sh)
 """
+import argparse
 import json
 import os
-import sys
+import statistics
 
 
 def fmt(v, width, prec):
@@ -19,25 +14,21 @@ def fmt(v, width, prec):
 
 
 def mean_sd(values):
-    m = sum(values) / len(values)
-    if len(values) < 2:
-        return m, None
-    return m, (sum((v - m) ** 2 for v in values) / (len(values) - 1)) ** 0.5
+    """Mean and sample standard deviation (None for one value)."""
+    return statistics.mean(values), statistics.stdev(values) if len(values) > 1 else None
 
 
 def main(argv):
-    mean = "--mean" in argv
-    argv = [a for a in argv if a != "--mean"]
-    stage = None
-    if "--stage" in argv:
-        i = argv.index("--stage")
-        if i + 1 >= len(argv):
-            sys.exit("case_table: --stage needs a stage name")
-        stage = argv[i + 1]
-        del argv[i:i + 2]
-    if len(argv) < 2:
-        sys.exit(__doc__)
-    base, cases = argv[0], argv[1:]
+    ap = argparse.ArgumentParser(prog="case_table.py", description=__doc__)
+    ap.add_argument("base")
+    ap.add_argument("cases", nargs="+")
+    ap.add_argument("--stage", metavar="NAME",
+                    help="the stage of that name instead of the last compress stage (e.g. P0)")
+    ap.add_argument("--mean", action="store_true",
+                    help="a last line with the mean and sample standard deviation of Phi and "
+                         "z_int over the cases that have a report")
+    args = ap.parse_args(argv)
+    base, cases, stage, mean = args.base, args.cases, args.stage, args.mean
     phis, zs = [], []
     print(f"{'case':>22} {'Phi':>8} {'z':>6} {'z_int':>6} {'z*':>6} {'x0':>6} {'steps':>9} {'wall s':>8}")
     for c in cases:
@@ -71,4 +62,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    main(None)

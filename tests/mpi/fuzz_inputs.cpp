@@ -71,6 +71,17 @@ fs::path failure_dir() {
   return d;
 }
 
+// GCC marks ASan with __SANITIZE_ADDRESS__, clang with __has_feature. GCC's macro is tested
+// first: Eigen (included through fuzz_inputs.h) defines __has_feature(x) as 0 for compilers
+// without it, which made GCC + ASan builds cap the address space and fail.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+constexpr bool kAddressSanitizer = __has_feature(address_sanitizer);
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
 /// HDF5 1.10.8 allocates and clears whatever length a corrupt variable-length string claims,
 /// tens of GB for a 17 kB file (docs/fuzzing.md, "Not fixed in granpack"). While fuzzing, the
 /// address space is capped so that such an input fails an allocation inside HDF5 (a refusal,
@@ -79,21 +90,8 @@ fs::path failure_dir() {
 class AddressSpaceCap {
 public:
   explicit AddressSpaceCap(rlim_t bytes) {
-    // GCC marks ASan with __SANITIZE_ADDRESS__, clang with __has_feature. GCC's macro is tested
-    // first: Eigen (included through fuzz_inputs.h) defines __has_feature(x) as 0 for
-    // compilers without it, which made GCC + ASan builds cap the address space and fail.
-#if defined(__SANITIZE_ADDRESS__)
-#elif defined(__has_feature)
-#if !__has_feature(address_sanitizer)
-    active_ = true;
-#endif
-#else
-    active_ = true;
-#endif
-    if (!active_ || getrlimit(RLIMIT_AS, &old_) != 0) {
-      active_ = false;
+    if (kAddressSanitizer || getrlimit(RLIMIT_AS, &old_) != 0)
       return;
-    }
     rlimit cap = old_;
     cap.rlim_cur = std::min(old_.rlim_max, bytes);
     active_ = setrlimit(RLIMIT_AS, &cap) == 0;
