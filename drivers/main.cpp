@@ -12,8 +12,10 @@
 #include "granpack/rigidity/petsc_support.h"
 #endif
 #include "granpack/app/bench.h"
+#include "granpack/app/ensemble_summary.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
+#include "granpack/prep/ensemble_run.h"
 #include "granpack/prep/run_deck.h"
 
 namespace {
@@ -42,7 +44,24 @@ int main(int argc, char** argv) {
   auto* run_cmd = app.add_subcommand("run", "assemble/equilibrate a packing as a deck says");
   run_cmd->add_option("deck", run.deck, "TOML deck (docs/deck.md)")->required();
   run_cmd->add_option("-o,--output", run.output_dir, "output directory (default out/<deck stem>)");
-  run_cmd->add_option("--restart", restart, "continue from this checkpoint file (DIR/checkpoint.h5)");
+  run_cmd->add_option("--restart", restart,
+                      "continue from this checkpoint file (DIR/checkpoint.h5); with --samples, no "
+                      "file: resume the unfinished samples, skip the finished ones")
+      ->expected(0, 1);
+  std::uint64_t seed = 0;
+  run_cmd->add_option("--seed", seed, "run the deck with this [sample] seed (docs/deck.md, \"Seeds\")")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{9223372036854775807ULL}));
+  int samples = 0, ranks_per_sample = 0;
+  std::uint64_t first_seed = 1;
+  run_cmd->add_option("--samples", samples,
+                      "an ensemble: run K samples (seeds S..S+K-1) side by side, each in OUT/sample_<seed>/")
+      ->check(CLI::Range(1, 1000000));
+  run_cmd->add_option("--first-seed", first_seed, "with --samples: the first sample's seed (default 1)")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{9223372036854775807ULL}));
+  run_cmd->add_option("--ranks-per-sample", ranks_per_sample,
+                      "with --samples: MPI ranks of each sample (default: the ranks shared evenly, "
+                      "else 1); must divide the job's ranks")
+      ->check(CLI::Range(1, 1000000));
   run_cmd->add_flag("--allow-deck-change", run.allow_deck_change,
                     "on --restart, let the stages after the one in progress differ from the checkpoint's deck");
   std::int64_t ckpt_steps = -1;
@@ -101,6 +120,14 @@ int main(int argc, char** argv) {
   auto* check_cmd = app.add_subcommand("check", "validate decks as `run` would, without running them");
   check_cmd->add_option("decks", check_paths, "TOML decks (docs/deck.md)")->required();
 
+  granpack::EnsembleSummaryOptions ensemble;
+  auto* ensemble_cmd = app.add_subcommand(
+      "ensemble", "mean, standard deviation and K of every number of an ensemble's samples -> OUT/ensemble.json");
+  ensemble_cmd->add_option("directory", ensemble.directory, "the OUT of `run --samples K -o OUT`")->required();
+  ensemble_cmd->add_flag("--analyze", ensemble.analyze,
+                         "first run `analyze` on every finished sample's configurations that have no "
+                         "<stem>.analysis.json yet");
+
   auto* info_cmd = app.add_subcommand("info", "what a granpack HDF5 file holds");
   info_cmd->add_option("file", file, "granpack HDF5 file")->required();
 
@@ -115,10 +142,35 @@ int main(int argc, char** argv) {
       return code;
     }
     if (*run_cmd) {
-      if (!restart.empty()) run.restart = restart;
+      const bool restarting = run_cmd->count("--restart") > 0;
       if (ckpt_steps >= 0) run.checkpoint_every_steps = ckpt_steps;
       if (ckpt_seconds >= 0) run.checkpoint_every_seconds = ckpt_seconds;
-      code = granpack::run_deck(MPI_COMM_WORLD, run);
+      if (samples > 0) {
+        if (run_cmd->count("--seed"))
+          throw granpack::InputError("--seed and --samples exclude each other: sample S of an ensemble has seed S "
+                                     "(--first-seed sets the first)");
+        if (!restart.empty())
+          throw granpack::InputError("--restart " + restart + ": with --samples, --restart takes no file; each "
+                                     "sample resumes from its own OUT/sample_<seed>/checkpoint.h5");
+        granpack::EnsembleOptions e;
+        e.run = run;
+        e.samples = samples;
+        e.first_seed = first_seed;
+        e.ranks_per_sample = ranks_per_sample;
+        e.resume = restarting;
+        code = granpack::run_ensemble(MPI_COMM_WORLD, e);
+      } else {
+        if (run_cmd->count("--first-seed") || run_cmd->count("--ranks-per-sample"))
+          throw granpack::InputError("--first-seed and --ranks-per-sample apply to an ensemble: add --samples K");
+        if (restarting && restart.empty())
+          throw granpack::InputError("--restart needs the checkpoint file, e.g. --restart out/A/checkpoint.h5");
+        if (!restart.empty()) run.restart = restart;
+        if (run_cmd->count("--seed")) run.seed = seed;
+        code = granpack::run_deck(MPI_COMM_WORLD, run);
+      }
+    } else if (*ensemble_cmd) {
+      std::string text = granpack::summarize_ensemble(MPI_COMM_WORLD, ensemble);
+      if (root) std::cout << text;
     } else if (*bench_cmd) {
       if (!bench_data.empty()) bench.lammps_data = bench_data;
       if (!bench_forces.empty()) bench.static_forces = bench_forces;

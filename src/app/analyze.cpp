@@ -118,7 +118,7 @@ std::string analyze_file(MPI_Comm world, const AnalyzeOptions& options) {
   int rank = 0;
   MPI_Comm_rank(world, &rank);
   if (rank == 0) {
-    std::cout << table(j);
+    if (options.print_table) std::cout << table(j);
     if (options.json) write_text_atomically(*options.json, j.dump(2) + "\n");
     if (options.hdf5) write_json_as_hdf5(*options.hdf5, j);
   }

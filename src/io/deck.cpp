@@ -418,6 +418,10 @@ StageSpec read_stage(const toml::value& v, int index, const std::string& file,
     if (index != 0) rk.fail("kind", "= \"read\" must be the first stage (it builds the sample)");
     std::string f = rk.string_or("file", "", "configuration file (.h5) written by granpack");
     if (f.empty()) rk.fail("file", "missing required key (a granpack .h5 file, e.g. \"out/A/A.h5\")");
+    // "{seed}" is the sample's seed: each sample of an ensemble reads its own file, e.g. the
+    // A.h5 of the same sample of another ensemble (docs/deck.md, "read").
+    for (std::size_t at = f.find("{seed}"); at != std::string::npos; at = f.find("{seed}", at))
+      f.replace(at, 6, std::to_string(sample.seed));
     st.params = ReadStage{f};
   } else if (st.kind == "ed_gas") {
     EdGasStage e;

@@ -14,7 +14,7 @@ void Log::open_file(const std::string& path, bool append) {
 
 void Log::emit(const std::string& line, bool to_stderr) {
   if (!root_) return;
-  (to_stderr ? std::cerr : std::cout) << line << std::endl;
+  (to_stderr ? std::cerr : std::cout) << prefix_ << line << std::endl;
   emit_to_file(line);
 }
 

@@ -132,7 +132,15 @@ RunState parse_run_state(const std::string& text, const std::string& file) {
 void check_restart_deck(const Deck& original, const Deck& now, const RunState& state,
                         bool allow_later_stages, const std::string& checkpoint_file) {
   std::vector<std::string> diffs;
-  if (!(original.sample == now.sample)) diffs.push_back("[sample]");
+  if (!(original.sample == now.sample)) {
+    SampleSpec reseeded = now.sample;
+    reseeded.seed = original.sample.seed;
+    diffs.push_back(reseeded == original.sample
+                        ? "[sample] seed (the checkpoint's run used seed " +
+                              std::to_string(original.sample.seed) + ": restart with --seed " +
+                              std::to_string(original.sample.seed) + ")"
+                        : std::string("[sample]"));
+  }
   if (!(original.material == now.material)) diffs.push_back("[material]");
   if (!(original.numerics == now.numerics)) diffs.push_back("[numerics]");
   // Stages up to the one in progress have shaped the stored state: they must be the same.

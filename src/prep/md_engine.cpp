@@ -280,22 +280,14 @@ EquilibriumMeasure MdEngine<dim>::measure(const EquilibriumScales& scales, bool 
     if (!settings_.cell.fixed[a])
       err = std::max(err, std::abs(obs_.stress_elastic(a, a) - settings_.cell.target[a]));
   m.stress = err / stress_scale;
-  // Kinetic energy, leaving out the spin of grains without any contact: a caged rattler
-  // spinning freely keeps its rotational energy forever (only normal damping and friction
-  // dissipate, both need a contact), yet it has no mechanical effect on the packing.
+  // Kinetic energy of every grain, translation and spin, as [AR] sec. III and [GRC] II D count
+  // it. A caged rattler spinning freely keeps its energy (nothing damps a grain without
+  // contacts), so decks that meet the criterion through such grains quench (quench_interval).
   const auto& p = sys.particles;
-  std::vector<double> touching(p.size(), 0.0);
-  loop_.for_each_contact(sys, list_, [&](std::size_t i, std::size_t j, const Vec<dim>&,
-                                         const ContactState<dim>&) {
-    touching[i] += 1;
-    touching[j] += 1;
-  });
-  halo_.reverse_values(touching, *ctx_.decomposition);
   double ek = 0;
-  for (std::size_t i = 0; i < p.n_owned(); ++i) {
-    ek += 0.5 * p.mass[i] * p.velocity[i].squaredNorm();
-    if (touching[i] > 0) ek += 0.5 * p.inertia[i] * p.angular_velocity[i].squaredNorm();
-  }
+  for (std::size_t i = 0; i < p.n_owned(); ++i)
+    ek += 0.5 * p.mass[i] * p.velocity[i].squaredNorm() +
+          0.5 * p.inertia[i] * p.angular_velocity[i].squaredNorm();
   const auto n = global_sum(ctx_.world, static_cast<std::int64_t>(p.n_owned()));
   m.kinetic = global_sum(ctx_.world, ek) / static_cast<double>(n) / energy_scale;
   return m;

@@ -6,6 +6,7 @@
 #include "granpack/comm/collective_error.h"
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
+#include "granpack/io/deck_seed.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/prep/checkpoint.h"
 #include "granpack/prep/stages.h"
@@ -13,11 +14,10 @@
 
 namespace granpack {
 
-namespace {
-
 /// Reads the deck on rank 0 and broadcasts its text, so all ranks validate the same bytes
-/// and throw the same InputError together.
-Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path) {
+/// and throw the same InputError together; with `seed`, the deck reseeded (deck_seed.h).
+Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path,
+                            std::optional<std::uint64_t> seed) {
   int rank = 0;
   MPI_Comm_rank(world, &rank);
   std::string text;
@@ -36,8 +36,11 @@ Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path) {
   text.resize(static_cast<std::size_t>(len));
   MPI_Bcast(text.data(), static_cast<int>(len), MPI_CHAR, 0, world);
   if (!ok) throw InputError(text);  // on every rank, same message
+  if (seed) text = reseeded_deck_text(text, path.string(), *seed);
   return parse_deck(text, path.string());
 }
+
+namespace {
 
 std::string fmt_opt(const std::optional<double>& v) {
   if (!v) return "-";
@@ -159,7 +162,7 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   MPI_Comm_size(world, &size);
 
   // 1. Validate everything before touching the output directory.
-  Deck deck = load_deck_collectively(world, options.deck);
+  Deck deck = load_deck_collectively(world, options.deck, options.seed);
   for (const auto& st : deck.stages)
     if (!stage_implemented(st.kind))
       throw NotImplemented(deck.file + ": stage[" + std::to_string(st.index) + "] kind = \"" +
@@ -192,6 +195,7 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   });
 
   Log log(rank == 0, options.quiet || deck.output.quiet);
+  log.set_terminal_prefix(options.terminal_prefix);
   collectively(world, [&] { log.open_file((out / "log.txt").string(), state.has_value()); });
   log.info("granpack " GRANPACK_VERSION ": " + deck.file + " -> " + out.string() + " on " +
            std::to_string(size) + " rank(s), dimension " + std::to_string(deck.sample.dimension) +
@@ -229,7 +233,7 @@ std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>
   MPI_Comm_rank(world, &rank);
   std::ostringstream os;
   for (const auto& path : decks) {
-    const Deck deck = load_deck_collectively(world, path);
+    const Deck deck = load_deck_collectively(world, path, std::nullopt);
     os << deck.file << ": ok, dimension " << deck.sample.dimension << ", n = " << deck.sample.n
        << ", " << deck.stages.size() << " stages:";
     for (const auto& st : deck.stages) {

@@ -86,6 +86,7 @@ collisions_per_grain = 50
 kind = "compress"
 pressure = 1.0e4
 inertia_max = 1.0e-2
+quench_interval = 20000
 )";
 }
 

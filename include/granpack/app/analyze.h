@@ -21,6 +21,7 @@ struct AnalyzeOptions {
   double threshold = 1e-4;
   PairOptions pairs;  ///< g(r) range and bin
   DensityOptions density;  ///< 2D density fluctuations and holes
+  bool print_table = true;  ///< rank 0 prints the table (not when an ensemble analyses many files)
 };
 
 /// Returns the JSON text of the results (on every rank); rank 0 prints the table.

@@ -9,8 +9,7 @@
 // kinetic threshold viscous forces can still exceed the force threshold by two orders of
 // magnitude). F1 = max(F0, P a^(dim-1)) is [GRC]'s force scale; without cohesion it is
 // [AR]'s a^2 P (3D), and the scales are a^2 P, P and P a^3.
-// The kinetic energy leaves out the spin of grains that touch nothing (a caged rattler
-// spinning freely never loses that energy, and it has no mechanical effect).
+// The kinetic energy counts every grain, translation and spin, as both papers do.
 #include <algorithm>
 #include <limits>
 

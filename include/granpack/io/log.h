@@ -26,11 +26,14 @@ public:
   }
   void warn(const std::string& line) { emit("warning: " + line, true); }
   bool quiet() const { return quiet_; }
+  /// Put before every terminal line (not the file's): which sample of an ensemble speaks.
+  void set_terminal_prefix(std::string prefix) { prefix_ = std::move(prefix); }
 
 private:
   void emit(const std::string& line, bool to_stderr);
   void emit_to_file(const std::string& line);
   bool root_, quiet_;
+  std::string prefix_;
   std::unique_ptr<std::ofstream> file_;
 };
 

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "granpack/io/deck.h"
+
 namespace granpack {
 
 struct RunOptions {
@@ -21,10 +23,19 @@ struct RunOptions {
   std::optional<std::int64_t> checkpoint_every_steps;
   std::optional<double> checkpoint_every_seconds;
   bool quiet = false;
+  /// Run the deck with this seed instead of its own (docs/deck.md, "Seeds").
+  std::optional<std::uint64_t> seed;
+  /// Put before every terminal line of the run (an ensemble's "[sample 3] ").
+  std::string terminal_prefix;
 };
 
 /// Collective on world. Returns the process exit code; throws granpack::Error on failure.
 int run_deck(MPI_Comm world, const RunOptions& options);
+
+/// The deck, read on rank 0 and broadcast (every rank validates the same bytes and throws
+/// the same InputError); with `seed`, reseeded as `run --seed` does. Collective on world.
+Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path,
+                            std::optional<std::uint64_t> seed);
 
 /// `granpack check`: validates decks exactly as `run` does before any work, and that the files
 /// their `read` stages name exist, without running anything or writing a file. Returns one
