@@ -7,7 +7,8 @@
 # skipped, one with a checkpoint is continued (`run --restart`), so after an interruption
 # (session end, SIGTERM) simply run the script again. When a state's five samples are done,
 # `granpack ensemble --analyze` writes out/ens/<state>/ensemble.json.
-#   bash jobs/runs/ar_ensembles.sh [STATE...]      (default: C D_QS A_prime Z B and the table III decks; C also gives A, D_QS also D)
+#   bash jobs/runs/ar_ensembles.sh [STATE...]      (default: C D_QS A_prime, the n = 1372 A and A', Z, B and the table III decks;
+#   C also gives A, D_QS also D; the controlled experiments: experiments/C_exp_base ...)
 # Environment: WORKERS (default 2), SEEDS (default "1 2 3 4 5"), GRANPACK (default build/granpack).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -19,7 +20,7 @@ exe=${GRANPACK:-build/granpack}
 workers=${WORKERS:-2}
 seeds=${SEEDS:-1 2 3 4 5}
 states=("$@")
-((${#states[@]})) || states=(C D_QS A_prime Z B D_10kPa D_100kPa D_10kPa_zeta0.098 D_10kPa_I0.1)
+((${#states[@]})) || states=(C D_QS A_prime A_fig3_small A_prime_n1372 Z B D_10kPa D_100kPa D_10kPa_zeta0.098 D_10kPa_I0.1)
 for s in "${states[@]}"; do
   [ -f "jobs/decks/$s.toml" ] || { echo "ar_ensembles.sh: no deck jobs/decks/$s.toml" >&2; exit 2; }
 done
