@@ -37,11 +37,15 @@ TOLERANCE_COLUMNS = ("state", "quantity", "tolerance (combined standard errors)"
 ALL_TABLES = ("I", "II", "III", "IV", "V", "VI", "VII", "VIII")
 TABLE_III_STATES = tuple(paper.TABLE_III)
 
-Stat = namedtuple("Stat", "mean sd K")
+# grains, scale: for a fraction of grains (x0, x2, x_i), the grains per sample and the factor
+# that took the fraction to the printed unit (100 for %); None otherwise.
+Stat = namedtuple("Stat", "mean sd K grains scale", defaults=(None, 1.0))
 Source = namedtuple("Source", "state path stem ensemble")
 # One quantity of a table: label, JSON pointer in the analysis, factor to the paper's unit,
-# and whether a missing key means 0 (x_i lists only the occupied classes).
-Quantity = namedtuple("Quantity", "label pointer scale zero_if_absent")
+# whether a missing key means 0 (x_i lists only the occupied classes), and whether it is a
+# fraction of grains (a count, with a binomial error: see deviation()).
+Quantity = namedtuple("Quantity", "label pointer scale zero_if_absent grain_fraction",
+                      defaults=(False,))
 # One printed row group: label, states it needs, per-column quantities and paper texts.
 RowSpec = namedtuple("RowSpec", "label state quantities paper note")
 
@@ -182,7 +186,15 @@ def stat(src, pointer, zero_if_absent=False):
 def scaled(s, factor):
     if s is None or s.mean is None:
         return s
-    return Stat(s.mean * factor, None if s.sd is None else s.sd * factor, s.K)
+    return s._replace(mean=s.mean * factor, sd=None if s.sd is None else s.sd * factor)
+
+
+def quantity_stat(src, q):
+    """The Stat of quantity q in the source, in the paper's unit, with its count if any."""
+    s = scaled(stat(src, q.pointer, q.zero_if_absent), q.scale)
+    if s is not None and s.mean is not None and q.grain_fraction:
+        s = s._replace(grains=ensemble_n(src.ensemble), scale=q.scale)
+    return s
 
 
 # ---------------------------------------------------------------- cells
@@ -196,8 +208,20 @@ def paper_error(ref):
 
 
 def deviation(ours, ref):
-    """(ours − paper) / combined standard error, ±inf when that error is 0 and they differ."""
-    se = math.sqrt(ours.sd ** 2 / ours.K + paper_error(ref) ** 2)
+    """(ours − paper) / combined standard error, ±inf when that error is 0 and they differ.
+
+    A fraction of grains is a count: measured on K samples of n grains it cannot be known
+    better than the binomial error sqrt(p (1 − p) / (K n)), whatever the samples' scatter says
+    (four samples without an 11-coordinated grain have sd 0, yet [AR]'s 0.02 % is 4 grains in
+    20 000). Each side's error is therefore at least its binomial error at the pooled p."""
+    var_ours, var_paper = ours.sd ** 2 / ours.K, paper_error(ref) ** 2
+    if ours.grains:
+        pooled = (ours.mean * ours.K + ref["value"] * PAPER_SAMPLES) / (ours.K + PAPER_SAMPLES)
+        p = min(max(pooled / ours.scale, 0.0), 1.0)
+        unit = ours.scale ** 2 * p * (1.0 - p) / ours.grains
+        var_ours = max(var_ours, unit / ours.K)
+        var_paper = max(var_paper, unit / PAPER_SAMPLES)
+    se = math.sqrt(var_ours + var_paper)
     diff = ours.mean - ref["value"]
     if se > 0:
         return diff / se
@@ -247,7 +271,7 @@ def cell_decimals(text, column_dec):
 # ---------------------------------------------------------------- table specifications
 
 def x_i_quantities(key, count):
-    return [Quantity(f"x_{i}", f"/{key}/{i}", 100.0, True) for i in range(count)]
+    return [Quantity(f"x_{i}", f"/{key}/{i}", 100.0, True, True) for i in range(count)]
 
 
 def state_quantities(columns):
@@ -255,7 +279,8 @@ def state_quantities(columns):
     known = {"Φ": ("/phi", 1.0), "z*": ("/z_star", 1.0), "x0": ("/x0", 100.0),
              "x2": ("/x2", 100.0), "Z(2)": ("/Z_2", 1.0), "M1": ("/M1", 1.0),
              "M2": ("/M2", 1.0), "H/N_f*": ("/H_over_Nf", 1.0)}
-    return [Quantity(c, known[c][0], known[c][1], False) for c in columns]
+    fractions = {"x0", "x2"}
+    return [Quantity(c, known[c][0], known[c][1], False, c in fractions) for c in columns]
 
 
 def treatment_state(row_label):
@@ -343,7 +368,7 @@ TABLES = {
 # ---------------------------------------------------------------- printing
 
 def row_stats(spec, src):
-    return [scaled(stat(src, q.pointer, q.zero_if_absent), q.scale) for q in spec.quantities]
+    return [quantity_stat(src, q) for q in spec.quantities]
 
 
 def md_row(cells):
@@ -526,7 +551,7 @@ def check_cells(chosen, tolerances, tol_path):
             raise InputError(f"{tol_path}: no tolerance declared for {state} {label} (add a "
                              f"row under \"{TOLERANCE_HEADING}\")")
         q = quantities[label]
-        s = scaled(stat(src, q.pointer), q.scale)
+        s = quantity_stat(src, q)
         if s is None or s.mean is None:
             raise InputError(f"{src.path}: analysis {src.stem!r} has no value for key "
                              f"{q.pointer!r} (needed for table IV, {state} {label})")
