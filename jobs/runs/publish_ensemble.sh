@@ -22,7 +22,7 @@ for name in "$@"; do
 import json, sys
 e = json.load(open(sys.argv[1]))
 e["directory"] = sys.argv[3]
-open(sys.argv[2], "w").write(json.dumps(e, indent=1) + "\n")
+open(sys.argv[2], "w").write(json.dumps(e, separators=(",", ":")) + "\n")  # compact: curves are long
 PY
   echo "published $name: K = $(echo $seeds | wc -w) (seeds $seeds) -> $dst"
 done

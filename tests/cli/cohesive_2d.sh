@@ -22,74 +22,68 @@
 #   union-find of the code).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
 deck="$GRANPACK_SOURCE_DIR/jobs/decks/2d/method1_cohesive_small.toml"
 for np in 1 2; do
-  if ! mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$scratch/np$np" --quiet > "$scratch/np$np.txt" 2>&1; then
-    echo "FAIL: run on $np rank(s):"; tail -20 "$scratch/np$np.txt"; exit 1
-  fi
+  mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$scratch/np$np" --quiet > "$scratch/np$np.txt" 2>&1
+  rc=$?; check "run on $np rank(s) exits 0" '[ $rc -eq 0 ]' || checks_stop cohesive_2d "$scratch/np$np.txt"
 done
 # --quiet: no progress lines on the terminal, but log.txt keeps them (a batch job's progress).
-if grep -q '^  step ' "$scratch/np2.txt" || ! grep -q '^  step ' "$scratch/np2/log.txt"; then
-  echo "FAIL: --quiet must keep progress lines out of the terminal and in log.txt"; exit 1
-fi
+check "--quiet keeps progress lines out of the terminal" "! grep -q '^  step ' '$scratch/np2.txt'"
+check "--quiet keeps progress lines in log.txt" "grep -q '^  step ' '$scratch/np2/log.txt'"
 # [GRC]'s I-state has no contacts (random sequential addition): the compression must start
 # with almost no interactions. The overlap-removal gas left ~0.6 n contacts here, which
 # cohesion bonded before the compression and made method 1 6-18 % too loose.
 n_grains=$(sed -n 's/^n = //p' "$deck")
 for np in 1 2; do
   first=$(grep -m1 '^  step ' "$scratch/np$np/log.txt" | sed -n 's/.*contacts *\([0-9]*\).*/\1/p')
-  if [ -z "$first" ] || [ "$first" -gt $((n_grains / 20)) ]; then
-    echo "FAIL: np$np: the compression starts with '${first}' interactions among $n_grains disks (I-state not contact-free)"; exit 1
-  fi
+  check "np$np: the compression starts with '${first}' interactions among $n_grains disks (at most n/20: the I-state is contact-free)" \
+    '! { [ -z "$first" ] || [ "$first" -gt $((n_grains / 20)) ]; }'
 done
 # Rigidity ([GRC] App. A) on 1 and 2 ranks: the interaction network of an equilibrated packing
 # with rolling resistance at P* = 0.01 is rigid (only the 2 translations), K(1) is positive
 # definite; G has 3 rows per contact and 1 per distant pair; both runs agree.
 for np in 1 2; do
-  if ! mpiexec -n $np "$GRANPACK_EXE" stiffness "$scratch/np2/final.h5" --json "$scratch/st$np.json" > "$scratch/st$np.txt" 2>&1; then
-    echo "FAIL: stiffness on $np rank(s):"; tail -20 "$scratch/st$np.txt"; exit 1
-  fi
+  mpiexec -n $np "$GRANPACK_EXE" stiffness "$scratch/np2/final.h5" --json "$scratch/st$np.json" > "$scratch/st$np.txt" 2>&1
+  rc=$?; check "stiffness on $np rank(s) exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/st$np.txt"
 done
-/usr/bin/python3 - "$scratch" <<'PY' || exit 1
+# The Python blocks print one line per check (cli_checks.sh checks_from).
+/usr/bin/python3 - "$scratch" > "$scratch/st_py.txt" 2>&1 <<'PY'
 import json, sys
 d = sys.argv[1]
+def check(name, ok):
+    print(("ok: " if ok else "FAIL: ") + name)
 a, b = (json.load(open(f"{d}/st{n}.json")) for n in (1, 2))
-bad = []
 for j in (a, b):
-    if not (j["rigid"] and j["positive_definite"] and j["mechanisms"] == 2):
-        bad.append(f"ranks {j['ranks']}: rigid {j['rigid']}, positive definite {j['positive_definite']}, k {j['mechanisms']}")
+    check(f"stiffness, ranks {j['ranks']}: rigid {j['rigid']}, positive definite {j['positive_definite']}, k {j['mechanisms']} = 2",
+          j["rigid"] and j["positive_definite"] and j["mechanisms"] == 2)
     rows = 3 * (j["backbone_contacts"] - j["distant_pairs"]) + j["distant_pairs"]
-    if j["G_rows"] != rows or j["H"] != rows + j["mechanisms"] - j["N_f"] or j["H_relation"] != "GRC eq. 21":
-        bad.append(f"ranks {j['ranks']}: rows {j['G_rows']} (expected {rows}), H {j['H']}, {j['H_relation']}")
+    check(f"stiffness, ranks {j['ranks']}: rows {j['G_rows']} (expected {rows}), H {j['H']}, {j['H_relation']}",
+          not (j["G_rows"] != rows or j["H"] != rows + j["mechanisms"] - j["N_f"] or j["H_relation"] != "GRC eq. 21"))
 for key in ("H", "mechanisms", "backbone_contacts", "distant_pairs"):
-    if a[key] != b[key]:
-        bad.append(f"{key}: {a[key]} on 1 rank, {b[key]} on 2")
-if abs(a["bulk_modulus"] - b["bulk_modulus"]) > 1e-8 * abs(a["bulk_modulus"]):
-    bad.append(f"B {a['bulk_modulus']} on 1 rank, {b['bulk_modulus']} on 2")
-if bad:
-    print("FAIL: stiffness of the cohesive packing:", *bad, sep="\n  ")
-    sys.exit(1)
+    check(f"stiffness {key}: {a[key]} on 1 rank, {b[key]} on 2", a[key] == b[key])
+check(f"stiffness B {a['bulk_modulus']} on 1 rank, {b['bulk_modulus']} on 2",
+      not abs(a["bulk_modulus"] - b["bulk_modulus"]) > 1e-8 * abs(a["bulk_modulus"]))
 print(f"stiffness: H {a['H']} (eq. 21), B {a['bulk_modulus']:.6g} N/m on 1 and 2 ranks")
 PY
+checks_from "the stiffness checks" "$scratch/st_py.txt" $?
 for np in 1 2; do
-  if ! mpiexec -n $np "$GRANPACK_EXE" analyze "$scratch/np2/final.h5" --json "$scratch/an$np.json" > "$scratch/an$np.txt" 2>&1; then
-    echo "FAIL: analyze on $np rank(s):"; tail -20 "$scratch/an$np.txt"; exit 1
-  fi
+  mpiexec -n $np "$GRANPACK_EXE" analyze "$scratch/np2/final.h5" --json "$scratch/an$np.json" > "$scratch/an$np.txt" 2>&1
+  rc=$?; check "analyze on $np rank(s) exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/an$np.txt"
 done
-/usr/bin/python3 - "$scratch" <<'PY'
+/usr/bin/python3 - "$scratch" > "$scratch/py.txt" 2>&1 <<'PY'
 import json, sys
 import h5py, numpy as np
 d = sys.argv[1]
+def check(name, ok):
+    print(("ok: " if ok else "FAIL: ") + name)
 # The deck's parameters (jobs/decks/2d/method1_cohesive_small.toml).
 a, F0, D0, KN, mu, Kr, mur, P = 1e-3, 1.0, 1e-6, 1e7, 0.5, 1e-3, 5e-6, 10.0
-fails = []
 for np_ in (1, 2):
     rep = json.load(open(f"{d}/np{np_}/report.json"))
     comp = [s for s in rep["stages"] if s["kind"] == "compress"][0]
-    if not comp.get("equilibrated"):
-        fails.append(f"np{np_}: compress did not equilibrate")
+    check(f"np{np_}: compress equilibrated", comp.get("equilibrated"))
     with h5py.File(f"{d}/np{np_}/final.h5", "r") as f:
         ids = f["particles/id"][:]
         idx = {g: k for k, g in enumerate(ids)}
@@ -109,25 +103,22 @@ for np_ in (1, 2):
     h = R[first] + R[second] - dist
     distant = (flags & 4) != 0
     touch = ~distant
-    if (flags & 3).any():
-        fails.append(f"np{np_}: {int(((flags & 3) != 0).sum())} contacts on a yield surface")
+    check(f"np{np_}: {int(((flags & 3) != 0).sum())} contacts on a yield surface (none allowed)",
+          not (flags & 3).any())
     if touch.any():
-        if (h[touch] <= 0).any():
-            fails.append(f"np{np_}: a contact without overlap")
+        check(f"np{np_}: every contact overlaps", not (h[touch] <= 0).any())
         err = np.abs(Ne[touch] - KN * h[touch]).max() / F0
-        if err > 1e-9:
-            fails.append(f"np{np_}: N^e != K_N h by {err:.3g} F0")
+        check(f"np{np_}: N^e = K_N h within 1e-9 F0 ({err:.3g} F0)", not err > 1e-9)
         Tn = np.sqrt((T[touch] ** 2).sum(1))
-        if not (Tn < mu * Ne[touch]).all():
-            fails.append(f"np{np_}: Coulomb not strict: max |T|/(mu N^e) {np.max(Tn / (mu * Ne[touch])):.6f}")
-        if not (Kr * np.abs(rot[touch]) < mur * Ne[touch]).all():
-            fails.append(f"np{np_}: rolling condition not strict")
+        check(f"np{np_}: Coulomb strict: max |T|/(mu N^e) {np.max(Tn / (mu * Ne[touch])):.6f} < 1",
+              (Tn < mu * Ne[touch]).all())
+        check(f"np{np_}: rolling condition strict", (Kr * np.abs(rot[touch]) < mur * Ne[touch]).all())
         coulomb = np.max(Tn / (mu * Ne[touch]))
         rolling = np.max(Kr * np.abs(rot[touch]) / (mur * Ne[touch]))
     if distant.any():
         g = -h[distant]
-        if (g < 0).any() or (g >= D0).any() or Ne[distant].any() or T[distant].any() or rot[distant].any():
-            fails.append(f"np{np_}: a distant pair out of range or carrying contact forces")
+        check(f"np{np_}: distant pairs within range, without contact forces",
+              not ((g < 0).any() or (g >= D0).any() or Ne[distant].any() or T[distant].any() or rot[distant].any()))
     # Static forces: along n the elastic part and the attraction, plus T (on the second grain).
     Na = np.where(distant, -F0 * (1 + h / D0), -F0)
     F = (Ne + Na)[:, None] * n + T
@@ -147,10 +138,10 @@ for np_ in (1, 2):
     print(f"np{np_}: phi {phi:.4f}, {int(touch.sum())} contacts + {int(distant.sum())} distant, "
           f"max |T|/(mu N^e) {coulomb:.4f}, max K_r|dtheta|/(mu_r N^e) {rolling:.4f}, "
           f"F/F0 {fmax:.2e}, Gamma/(F0 a) {gmax:.2e}, |dP| a/F0 {dp:.2e}")
-    if fmax >= 1e-4: fails.append(f"np{np_}: net force {fmax:.3g} F0 from the file")
-    if gmax >= 1e-4: fails.append(f"np{np_}: net moment {gmax:.3g} F0 a from the file")
-    if dp >= 1e-4: fails.append(f"np{np_}: pressure error {dp:.3g} F0/a from the file")
-    if not 0.5 < phi < 0.8: fails.append(f"np{np_}: phi {phi} outside (0.5, 0.8)")
+    check(f"np{np_}: net force {fmax:.3g} F0 from the file < 1e-4", not fmax >= 1e-4)
+    check(f"np{np_}: net moment {gmax:.3g} F0 a from the file < 1e-4", not gmax >= 1e-4)
+    check(f"np{np_}: pressure error {dp:.3g} F0/a from the file < 1e-4", not dp >= 1e-4)
+    check(f"np{np_}: phi {phi} in (0.5, 0.8)", 0.5 < phi < 0.8)
     Ns = Ne + Na
     counts = {"z_interactions": 2 * len(Ns) / len(x), "z_plus": 2 * (Ns > 1e-4 * F0).sum() / len(x),
               "z_minus": 2 * (Ns < -1e-4 * F0).sum() / len(x),
@@ -158,16 +149,15 @@ for np_ in (1, 2):
               "distant_fraction": distant.sum() / len(Ns)}
     vals = comp.get("values", {})
     for k, v in counts.items():
-        if k not in vals or abs(vals[k] - v) > 1e-12:
-            fails.append(f"np{np_}: report {k} = {vals.get(k)}, the file gives {v}")
+        check(f"np{np_}: report {k} = {vals.get(k)}, the file gives {v}",
+              not (k not in vals or abs(vals[k] - v) > 1e-12))
     print(f"np{np_}: " + ", ".join(f"{k} {v:.4f}" for k, v in counts.items()))
     if np_ != 2:
         continue
     # granpack analyze's interaction section against the file (this is the file it analysed).
     an = [json.load(open(f"{d}/an{k}.json"))["interactions"] for k in (1, 2)]
     def close(key, v1, v2, tol=1e-12):
-        if abs(v1 - v2) > tol * max(1.0, abs(v2)):
-            fails.append(f"analyze {key}: {v1}, expected {v2}")
+        check(f"analyze {key}: {v1}, expected {v2}", not abs(v1 - v2) > tol * max(1.0, abs(v2)))
     t = np.where(distant[:, None], 0.0, T - (T * n).sum(1)[:, None] * n)
     Tm = np.sqrt((t ** 2).sum(1))
     F = np.hypot(Ns, Tm)
@@ -186,8 +176,7 @@ for np_ in (1, 2):
     hA, _ = np.histogram(th, bins=np.linspace(0, 180, 37))
     for key, h in (("normal_force_pdf", hN), ("force_angle_pdf", hA)):
         got = np.array(an[1][key]["pdf"]) * an[1][key]["count"] * (np.diff(an[1][key]["edges"])[0])
-        if not np.allclose(got, h, atol=1e-9):
-            fails.append(f"analyze {key}: counts {got[:8]}..., the file gives {h[:8]}...")
+        check(f"analyze {key}: counts {got[:8]}..., the file gives {h[:8]}...", np.allclose(got, h, atol=1e-9))
     # F_perc: the largest |F| whose network {|F| >= F} wraps around the cell.
     img = np.round(((x[first] + r) - x[second]) / L).astype(int)  # image of the second grain
     def wraps(thr):
@@ -221,14 +210,12 @@ for np_ in (1, 2):
     else:
         fperc = 0.0
     close("F_perc", an[1]["F_perc_over_Fs"], fperc / F0)
-    if not 0 < fperc < F.max():
-        fails.append(f"F_perc {fperc} outside (0, max |F|)")
+    check(f"F_perc {fperc} in (0, max |F|)", 0 < fperc < F.max())
     for k in an[0]:
         if isinstance(an[0][k], (int, float)) and not isinstance(an[0][k], bool):
             close(f"{k} (1 against 2 ranks)", an[0][k], an[1][k])
     print(f"analyze: F_perc/F0 {fperc / F0:.4g}, Rumpf <N>/pred {Ns.mean() / pred:.4f}, "
           f"vanishing {expect['fraction_vanishing']:.4f}")
-for m in fails:
-    print("FAIL:", m)
-sys.exit(1 if fails else 0)
 PY
+checks_from "the file checks" "$scratch/py.txt" $?
+checks_done cohesive_2d

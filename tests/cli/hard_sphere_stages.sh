@@ -7,8 +7,8 @@
 # of the lattice that ed_gas reports is the one of the gas it wrote.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
 # Sample and material shared by both decks of this test.
 header="[sample]
 dimension = 3
@@ -39,9 +39,8 @@ report_phi = [0.5]
 TOML
 } > "$scratch/ed.toml"
 for np in 1 2; do
-  if ! mpiexec -n $np "$GRANPACK_EXE" run "$scratch/ed.toml" -o "$scratch/np$np" --quiet > "$scratch/np$np.txt" 2>&1; then
-    echo "FAIL: run on $np rank(s):"; tail -20 "$scratch/np$np.txt"; exit 1
-  fi
+  mpiexec -n $np "$GRANPACK_EXE" run "$scratch/ed.toml" -o "$scratch/np$np" --quiet > "$scratch/np$np.txt" 2>&1
+  rc=$?; check "run on $np rank(s) exits 0" '[ $rc -eq 0 ]' || checks_stop hard_sphere_stages "$scratch/np$np.txt"
 done
 # The read stage starts a run from a stored file (here the gas written on 2 ranks, read on 1).
 { printf '%s' "$header"; cat <<TOML
@@ -50,14 +49,15 @@ kind = "read"
 file = "$scratch/np2/gas.h5"
 TOML
 } > "$scratch/read.toml"
-if ! mpiexec -n 1 "$GRANPACK_EXE" run "$scratch/read.toml" -o "$scratch/read" --quiet > "$scratch/read.txt" 2>&1; then
-  echo "FAIL: read stage:"; tail -20 "$scratch/read.txt"; exit 1
-fi
-/usr/bin/python3 - "$scratch" <<'PY'
+mpiexec -n 1 "$GRANPACK_EXE" run "$scratch/read.toml" -o "$scratch/read" --quiet > "$scratch/read.txt" 2>&1
+rc=$?; check "read stage run exits 0" '[ $rc -eq 0 ]' || checks_stop hard_sphere_stages "$scratch/read.txt"
+# The files, checked independently of the engine: one line per check (cli_checks.sh checks_from).
+/usr/bin/python3 - "$scratch" > "$scratch/py.txt" 2>&1 <<'PY'
 import json, sys
 import h5py, numpy as np
 d = sys.argv[1]
-fails = []
+def check(name, ok):
+    print(("ok: " if ok else "FAIL: ") + name)
 def load(path):
     with h5py.File(path, "r") as f:
         order = np.argsort(f["particles/id"][:])
@@ -66,43 +66,38 @@ def load(path):
 for name in ["gas.h5", "final.h5"]:
     s1, v1, r1, L1, c1 = load(f"{d}/np1/{name}")
     s2, v2, r2, L2, c2 = load(f"{d}/np2/{name}")
-    if not (np.array_equal(s1, s2) and np.array_equal(L1, L2)):
-        fails.append(f"{name}: positions differ between 1 and 2 ranks (max {np.abs(s1 - s2).max()})")
-    if np.any(v1 != 0) or c1 != 0:
-        fails.append(f"{name}: grains not at rest or contacts left after a hard-sphere stage")
+    check(f"{name}: the same positions on 1 and 2 ranks (max difference {np.abs(s1 - s2).max()})",
+          np.array_equal(s1, s2) and np.array_equal(L1, L2))
+    check(f"{name}: grains at rest and no contacts left after a hard-sphere stage",
+          not (np.any(v1 != 0) or c1 != 0))
     # No overlap: smallest minimum-image distance between centres >= sum of radii (1e-9).
     x = s1 * L1
     dx = x[:, None, :] - x[None, :, :]
     dx -= L1 * np.round(dx / L1)
     dist = np.sqrt((dx ** 2).sum(-1)) + np.eye(len(x)) * 1e9
     gap = (dist - (r1[:, None] + r1[None, :])).min() / (2 * r1.max())
-    if gap < -1e-9:
-        fails.append(f"{name}: overlap {gap}")
+    check(f"{name}: no overlap (smallest gap {gap} diameters)", not gap < -1e-9)
 s_gas = load(f"{d}/np2/gas.h5")[0]
 s_read = load(f"{d}/read/final.h5")[0]
-if not np.array_equal(s_gas, s_read):
-    fails.append("read stage: the file read back differs from the file written")
+check("read stage: the file read back equals the file written", np.array_equal(s_gas, s_read))
 r = json.load(open(f"{d}/np2/report.json"))
 ls = r["stages"][3]
-if abs(ls["phi"] - 0.55) > 1e-9:
-    fails.append(f"ls_compress ended at phi {ls['phi']}, not 0.55")
+check(f"ls_compress ended at phi {ls['phi']} = 0.55", not abs(ls["phi"] - 0.55) > 1e-9)
 with h5py.File(f"{d}/np2/final.h5", "r") as f:
-    if not np.allclose(f["particles/radius"][:], 0.5e-3, rtol=0, atol=1e-18):
-        fails.append("ls_compress changed the grain radii")
-if set(ls["values"]) != {"collisions_per_grain_0.450_0.500", "collisions_per_grain_0.500_0.550"}:
-    fails.append(f"ls values: {ls['values']}")
+    check("ls_compress kept the grain radii", np.allclose(f["particles/radius"][:], 0.5e-3, rtol=0, atol=1e-18))
+check(f"ls values: {ls['values']}",
+      set(ls["values"]) == {"collisions_per_grain_0.450_0.500", "collisions_per_grain_0.500_0.550"})
 melt = r["stages"][1]["values"]
-if abs(melt["collisions_per_grain"] - 20) > 1e-9:
-    fails.append(f"ed_gas collisions per grain {melt['collisions_per_grain']}")
+check(f"ed_gas collisions per grain {melt['collisions_per_grain']} = 20",
+      not abs(melt["collisions_per_grain"] - 20) > 1e-9)
 # The order left of the FCC lattice (4x4x4 cells: its (111) Bragg peaks at wave-vector index 4),
 # recomputed from the written gas: mean over the 4 peaks of |sum_j exp(i k.x_j)| / N.
 s_gas2, _, _, L_gas, _ = load(f"{d}/np2/gas.h5")
 x = s_gas2 * L_gas
 rho = np.mean([abs(np.exp(1j * (x @ (2 * np.pi * 4 * np.array(v) / L_gas))).mean())
                for v in [(1, 1, 1), (1, 1, -1), (1, -1, 1), (1, -1, -1)]])
-if "lattice_order" not in melt or abs(melt["lattice_order"] - rho) > 1e-9:
-    fails.append(f"ed_gas lattice_order {melt.get('lattice_order')} against {rho} from gas.h5")
-for f in fails: print("FAIL:", f)
-print(f"hard-sphere stages: {'ok' if not fails else str(len(fails)) + ' failures'}")
-sys.exit(1 if fails else 0)
+check(f"ed_gas lattice_order {melt.get('lattice_order')} = {rho} from gas.h5",
+      not ("lattice_order" not in melt or abs(melt["lattice_order"] - rho) > 1e-9))
 PY
+checks_from "the file checks" "$scratch/py.txt" $?
+checks_done "hard-sphere stages"

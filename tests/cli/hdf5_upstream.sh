@@ -8,11 +8,8 @@
 # still reads.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
-pass=0 fail=0
-ok() { pass=$((pass + 1)); }
-bad() { echo "FAIL: $*"; fail=$((fail + 1)); }
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
 
 # file|what the message must say after "FILE: attribute /format: "
 cases="global_heap_hang.h5|object 0 at byte 456 of the collection claims 0 bytes, which is less than its own header
@@ -32,14 +29,13 @@ while IFS='|' read -r name expect; do
     code=$?
     secs=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.2f", b - a }')
     echo "$name on $np rank(s): exit $code in $secs s"
-    if [ $code -ne 2 ]; then bad "$name, $np rank(s): exit $code (want 2): $msg"; continue; fi
+    check "$name, $np rank(s): exit $code (want 2)" '[ $code -eq 2 ]' || echo "$msg"
     # The first line of the message, as rank 0 prints it.
     line=$(grep -m1 "$f: " <<<"$msg")
-    if [[ "$line" != *"$f: attribute /"*": "*"$expect"* ]]; then
-      bad "$name, $np rank(s): message does not name the file, the attribute and '$expect': $msg"
-    elif awk -v s=$secs 'BEGIN { exit !(s > 10) }'; then
-      bad "$name, $np rank(s): $secs s"
-    else ok; fi
+    check "$name, $np rank(s): the message names the file, the attribute and '$expect'" \
+      '[[ "$line" == *"$f: attribute /"*": "*"$expect"* ]]' || echo "$msg"
+    check "$name, $np rank(s): refused within 10 s ($secs s)" \
+      '! awk -v s=$secs "BEGIN { exit !(s > 10) }"'
   done
 done <<<"$cases"
 
@@ -48,11 +44,12 @@ n=0
 for f in "$GRANPACK_SOURCE_DIR"/docs/data/*.h5 "$GRANPACK_SOURCE_DIR"/jobs/runs/*/checkpoint.h5; do
   [ -f "$f" ] || continue
   n=$((n + 1))
-  if "$GRANPACK_EXE" info "$f" > "$scratch/info.txt" 2>&1 && grep -q "^particles:" "$scratch/info.txt"; then ok
-  else bad "granpack info $f:"; cat "$scratch/info.txt"; fi
+  "$GRANPACK_EXE" info "$f" > "$scratch/info.txt" 2>&1
+  code=$?
+  check "granpack info $f: exit $code, a particles line" \
+    '[ $code -eq 0 ] && grep -q "^particles:" "$scratch/info.txt"' || cat "$scratch/info.txt"
 done
-[ $n -ge 1 ] || bad "no committed .h5 file found to read"
+check "committed .h5 files found to read: $n" '[ $n -ge 1 ]'
 echo "valid committed files read: $n"
 
-echo "hdf5 upstream: $pass passed, $fail failed"
-[ $fail -eq 0 ]
+checks_done "hdf5 upstream"

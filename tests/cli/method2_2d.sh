@@ -25,12 +25,14 @@
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
 restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 np=2
 m2=$scratch/m2
 t0=$(date +%s)
 mpiexec -n $np "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/2d/method2_small.toml" -o "$m2" -q \
-  < /dev/null > "$scratch/m2.txt" 2>&1 || { echo "FAIL: method 2 run"; tail -30 "$scratch/m2.txt"; exit 1; }
+  < /dev/null > "$scratch/m2.txt" 2>&1
+rc=$?; check "method 2 run exits 0" '[ $rc -eq 0 ]' || { tail -30 "$scratch/m2.txt"; checks_stop method2_2d; }
 echo "method 2 deck: $(( $(date +%s) - t0 )) s"
 grep -E "aggregated|equilibrated|interactions" "$m2/log.txt"
 
@@ -84,7 +86,8 @@ inside() {
 }
 whole=$scratch/whole
 t0=$(date +%s)
-run "$whole" > "$scratch/whole.txt" 2>&1 || { echo "FAIL: stiffen run"; tail -30 "$scratch/whole.txt"; exit 1; }
+run "$whole" > "$scratch/whole.txt" 2>&1
+rc=$?; check "stiffen run exits 0" '[ $rc -eq 0 ]' || tail -30 "$scratch/whole.txt"
 echo "stiffen deck: $(( $(date +%s) - t0 )) s"
 grep -E "increment 40|equilibrated" "$whole/log.txt"
 out=$scratch/chain
@@ -96,14 +99,19 @@ for _ in $(seq 1 3000); do
   kill -0 $pid 2>/dev/null || break
   sleep 0.02
 done
-[ "$(inside)" -gt 0 ] || { echo "FAIL: no checkpoint inside stiffen"; tail "$scratch/chain.txt"; exit 1; }
+# The kill-and-restart chain, each step needing the one before.
+killed_inside=$(inside)
+check "a checkpoint inside stiffen" '[ "$killed_inside" -gt 0 ]' || tail "$scratch/chain.txt"
+if [ "$killed_inside" -gt 0 ]; then
+  stop_run
+  echo "killed inside stiffen; checkpoint at stage $("$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p')"
+  run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1
+  rc=$?; check "restart from the checkpoint inside stiffen exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/chain.txt"
+  resumed=$(grep -c "inside stage 1 'stiffen'" "$out/log.txt")
+  check "the restart resumed inside stiffen" '[ "$resumed" -gt 0 ]' || grep "restart from" "$out/log.txt"
+  check "the chain ends as the uninterrupted run (final.h5 bit for bit, report.json)" 'same_run "$whole" "$out" "$np"'
+fi
 stop_run
-echo "killed inside stiffen; checkpoint at stage $("$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p')"
-run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1 \
-  || { echo "FAIL: restart"; tail -20 "$scratch/chain.txt"; exit 1; }
-grep -q "inside stage 1 'stiffen'" "$out/log.txt" \
-  || { echo "FAIL: the restart did not resume inside stiffen"; grep "restart from" "$out/log.txt"; exit 1; }
-same_run "$whole" "$out" "$np" || exit 1
 
 # The aggregation alone with quenches and [GRC]'s criteria (1e-4 F0, 1e-4 F0 a, 5e-8 F0 a).
 q=$scratch/quench
@@ -113,14 +121,15 @@ awk '/^\[\[stage\]\]/ { k++ } k < 3' "$GRANPACK_SOURCE_DIR/jobs/decks/2d/method2
       -e 's/^cluster_every = 5000/cluster_every = 5000\nquench_interval = 20000\nquench_delay = 40000/' > "$scratch/quench.toml"
 printf '[[stage]]\nkind = "write"\nfile = "aggregate.h5"\n' >> "$scratch/quench.toml"
 t0=$(date +%s)
-mpiexec -n $np "$GRANPACK_EXE" run "$scratch/quench.toml" -o "$q" -q < /dev/null > "$scratch/q.txt" 2>&1 \
-  || { echo "FAIL: quench run"; tail -20 "$scratch/q.txt"; exit 1; }
+mpiexec -n $np "$GRANPACK_EXE" run "$scratch/quench.toml" -o "$q" -q < /dev/null > "$scratch/q.txt" 2>&1
+rc=$?; check "quench run exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/q.txt"
 echo "aggregation with quenches: $(( $(date +%s) - t0 )) s"
 
-mpiexec -n $np "$GRANPACK_EXE" analyze "$m2/P0.h5" --json "$scratch/an.json" > "$scratch/an.txt" 2>&1 \
-  || { echo "FAIL: analyze P0.h5"; tail -20 "$scratch/an.txt"; exit 1; }
+mpiexec -n $np "$GRANPACK_EXE" analyze "$m2/P0.h5" --json "$scratch/an.json" > "$scratch/an.txt" 2>&1
+rc=$?; check "analyze P0.h5 exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/an.txt"
 
-/usr/bin/python3 - "$m2" "$whole" "$scratch/an.json" "$q" <<'PY'
+# The files, checked independently of the engine: one line per check (cli_checks.sh checks_from).
+/usr/bin/python3 - "$m2" "$whole" "$scratch/an.json" "$q" > "$scratch/py.txt" 2>&1 <<'PY'
 import json, os, sys
 import numpy as np
 sys.path.insert(0, os.path.join(os.environ["GRANPACK_SOURCE_DIR"], "tests", "support"))
@@ -128,23 +137,23 @@ from packing_file import Packing
 m2, stiff, an_file, quench = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
 a, F0, D0, mu, phi_I, tol = 1e-3, 1.0, 1e-6, 0.5, 0.36, 1e-3
 m = 2500 * np.pi * a * a / 4
-fails = []
+def check(name, ok):
+    print(("ok: " if ok else "FAIL: ") + name)
 
 def check_file(path, K_N, P, label, tol=tol):
     p = Packing(path)
     touch = ~p.distant
     err = np.abs(p.Ne[touch] - K_N * p.h[touch]).max() / F0
-    if err > 1e-9:
-        fails.append(f"{label}: N^e != K_N h (K_N = {K_N:g}) by {err:.3g} F0")
+    check(f"{label}: N^e = K_N h (K_N = {K_N:g}) within 1e-9 F0 ({err:.3g} F0)", not err > 1e-9)
     Ns, net, mom, sigma = p.static_balance(F0, D0)
     fmax = np.sqrt((net ** 2).sum(1)).max() / F0
     gmax = np.abs(mom).max() / (F0 * a)
     dp = np.abs(np.diag(sigma) - P).max() * a / F0 if P is not None else 0.0  # None: fixed cell
-    if fmax >= tol: fails.append(f"{label}: net force {fmax:.3g} F0")
-    if gmax >= tol: fails.append(f"{label}: net moment {gmax:.3g} F0 a")
-    if dp >= tol: fails.append(f"{label}: |sigma - P| {dp:.3g} F0/a")
+    check(f"{label}: net force {fmax:.3g} F0 < {tol:g}", not fmax >= tol)
+    check(f"{label}: net moment {gmax:.3g} F0 a < {tol:g}", not gmax >= tol)
+    check(f"{label}: |sigma - P| {dp:.3g} F0/a < {tol:g}", not dp >= tol)
     clusters = p.clusters()
-    if clusters != 1: fails.append(f"{label}: {clusters} clusters")
+    check(f"{label}: {clusters} clusters (one expected)", clusters == 1)
     print(f"{label}: F/F0 {fmax:.2e}, G/(F0 a) {gmax:.2e}, |sigma - P| a/F0 {dp:.2e}, "
           f"N^e - K_N h {err:.1e} F0, {clusters} cluster")
     return Ns, len(p.x)
@@ -152,50 +161,46 @@ def check_file(path, K_N, P, label, tol=tol):
 rep = json.load(open(f"{m2}/report.json"))
 st = {s["name"]: s for s in rep["stages"]}
 for name in ("aggregate", "P0", "P0.01"):
-    if not st[name].get("equilibrated"):
-        fails.append(f"stage {name} did not equilibrate")
-if st["aggregate"]["values"]["clusters"] != 1:
-    fails.append(f"aggregate: {st['aggregate']['values']['clusters']} clusters")
+    check(f"stage {name} equilibrated", st[name].get("equilibrated"))
+check(f"aggregate: {st['aggregate']['values']['clusters']} clusters (one expected)",
+      st["aggregate"]["values"]["clusters"] == 1)
 Ns, n = check_file(f"{m2}/P0.h5", 1e5, 0.0, "P0.h5")
 check_file(f"{m2}/final.h5", 1e5, 10.0, "P0.01")
 srep = json.load(open(f"{stiff}/report.json"))
 ss = {s["name"]: s for s in srep["stages"]}
 sv = ss["stiffen"]["values"]
-if sv["normal_stiffness"] != 1e6 or sv["normal_stiffness_start"] != 1e5:
-    fails.append(f"stiffen: K_N {sv['normal_stiffness_start']} -> {sv['normal_stiffness']}")
-if abs(sv["kappa"] - 1e3) > 1e-9 or abs(sv["kappa_start"] - 1e2) > 1e-9:
-    fails.append(f"stiffen: kappa {sv['kappa_start']} -> {sv['kappa']}")
-if not ss["stiff"].get("equilibrated"):
-    fails.append("the stiffened packing did not equilibrate")
+check(f"stiffen: K_N {sv['normal_stiffness_start']} -> {sv['normal_stiffness']} (1e5 -> 1e6)",
+      not (sv["normal_stiffness"] != 1e6 or sv["normal_stiffness_start"] != 1e5))
+check(f"stiffen: kappa {sv['kappa_start']} -> {sv['kappa']} (1e2 -> 1e3)",
+      not (abs(sv["kappa"] - 1e3) > 1e-9 or abs(sv["kappa_start"] - 1e2) > 1e-9))
+check("the stiffened packing equilibrated", ss["stiff"].get("equilibrated"))
 check_file(f"{stiff}/final.h5", 1e6, 10.0, "stiffened")
 phi = {k: st[k]["phi"] for k in ("aggregate", "P0", "P0.01")}
-if abs(phi["aggregate"] / phi_I - 1) > 1e-12:
-    fails.append(f"aggregate changed the fixed cell's phi: {phi['aggregate']}")
-if not abs(phi["P0"] / phi_I - 1) < 0.05:
-    fails.append(f"relaxation at P* = 0: phi {phi_I} -> {phi['P0']}")
+check(f"aggregate kept the fixed cell's phi: {phi['aggregate']}", not abs(phi["aggregate"] / phi_I - 1) > 1e-12)
+check(f"relaxation at P* = 0: phi {phi_I} -> {phi['P0']}, within 5 %", abs(phi["P0"] / phi_I - 1) < 0.05)
 I_cap = 35.68 * np.sqrt(m / 10.0)
-if not st["P0.01"]["inertia_max"] <= I_cap * (1 + 1e-9):
-    fails.append(f"P0.01: inertia number {st['P0.01']['inertia_max']} above the strain-rate cap's {I_cap}")
+check(f"P0.01: inertia number {st['P0.01']['inertia_max']} within the strain-rate cap's {I_cap}",
+      st["P0.01"]["inertia_max"] <= I_cap * (1 + 1e-9))
 zi = 2 * len(Ns) / n
 an = json.load(open(an_file))["interactions"]
-if abs(st["P0"]["values"]["z_interactions"] - zi) > 1e-12:
-    fails.append(f"P0 report z {st['P0']['values']['z_interactions']}, the file gives {zi}")
+check(f"P0 report z {st['P0']['values']['z_interactions']}, the file gives {zi}",
+      not abs(st["P0"]["values"]["z_interactions"] - zi) > 1e-12)
 for k, v in (("z_plus", 2 * (Ns > 1e-4 * F0).sum() / n), ("z_minus", 2 * (Ns < -1e-4 * F0).sum() / n)):  # analyze: 1e-4 F1
-    if abs(an[k] - v) > 1e-12: fails.append(f"analyze {k} {an[k]}, the file gives {v}")
+    check(f"analyze {k} {an[k]}, the file gives {v}", not abs(an[k] - v) > 1e-12)
 print(f"phi: I {phi_I}, aggregate {phi['aggregate']:.5f}, P*=0 {phi['P0']:.5f}, P*=0.01 "
       f"{phi['P0.01']:.5f}, stiffened {ss['stiff']['phi']:.5f}; z(P0) {zi:.4f}; "
       f"I {st['P0.01']['inertia_max']:.4g} <= {I_cap:.4g}")
 qr = {s["name"]: s for s in json.load(open(f"{quench}/report.json"))["stages"]}["aggregate"]
-if not qr.get("equilibrated") or qr["values"]["quenches"] < 1 or qr["values"]["clusters"] != 1:
-    fails.append(f"quenched aggregation: equilibrated {qr.get('equilibrated')}, values {qr['values']}")
+check(f"quenched aggregation: equilibrated {qr.get('equilibrated')}, quenched, one cluster: values {qr['values']}",
+      not (not qr.get("equilibrated") or qr["values"]["quenches"] < 1 or qr["values"]["clusters"] != 1))
 check_file(f"{quench}/aggregate.h5", 1e5, None, "quenched aggregate", 1e-4)
 # quench_delay: the first quench comes 40 000 steps (to the next 50-step check) after the first
 # cluster count that found one cluster, not at that count.
 import re
 started = re.findall(r"step (\d+): velocity quenches from now on \(one cluster since step (\d+)\)",
                      open(f"{quench}/log.txt").read())
-if len(started) != 1 or not 40000 <= int(started[0][0]) - int(started[0][1]) < 40050:
-    fails.append(f"quench_delay = 40000: first quench / one cluster at steps {started}")
+check(f"quench_delay = 40000: first quench / one cluster at steps {started}",
+      not (len(started) != 1 or not 40000 <= int(started[0][0]) - int(started[0][1]) < 40050))
 import h5py
 with h5py.File(f"{quench}/aggregate.h5", "r") as f:
     v = f["particles/velocity"][:]
@@ -204,11 +209,9 @@ with h5py.File(f"{quench}/aggregate.h5", "r") as f:
 mass = 2500 * np.pi * R ** 2
 inertia = 0.5 * mass * R ** 2
 ek = 0.5 * (mass * (v ** 2).sum(1) + inertia * (w ** 2).sum(1)).mean() / (F0 * a)
-if not 0 < ek < 5e-8:
-    fails.append(f"quenched aggregate: kinetic energy per grain {ek:.3g} F0 a (expected in (0, 5e-8))")
+check(f"quenched aggregate: kinetic energy per grain {ek:.3g} F0 a in (0, 5e-8)", 0 < ek < 5e-8)
 print(f"quenched aggregate: {int(qr['values']['quenches'])} quenches, {qr['steps']} steps, "
       f"z {qr['values']['z_interactions']:.4f}, Ek {ek:.2e} F0 a per grain")
-for msg in fails:
-    print("FAIL:", msg)
-sys.exit(1 if fails else 0)
 PY
+checks_from "the file checks" "$scratch/py.txt" $?
+checks_done method2_2d

@@ -12,6 +12,7 @@
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
 restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 deck=$scratch/ed.toml
 cat > "$deck" <<'TOML'
@@ -64,28 +65,39 @@ leg() {
 }
 info_stage() { "$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p'; }
 
-# chain NP: the uninterrupted run and the interrupted chain on NP ranks, compared.
+# chain NP: the uninterrupted run and the interrupted chain on NP ranks, compared. A failed
+# step ends the chain (the next ones need its files); the other rank count still runs.
 chain() {
   np=$1 whole=$scratch/whole$1 out=$scratch/chain$1
   t0=$(date +%s.%N)
-  run "$whole" --checkpoint-every-seconds 0 > "$whole.txt" 2>&1 \
-    || { echo "FAIL: uninterrupted run"; tail "$whole.txt"; return 1; }
+  run "$whole" --checkpoint-every-seconds 0 > "$whole.txt" 2>&1
+  rc=$?; check "$np rank(s): uninterrupted run exits 0" '[ $rc -eq 0 ]' || { tail "$whole.txt"; return; }
   wall=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.1f", b - a }')
 
-  leg 1 || { echo "FAIL: no checkpoint inside ed_gas (uninterrupted run: $wall s)"; tail "$scratch/chain.txt"; return 1; }
+  leg 1; rc=$?
+  check "$np rank(s): a checkpoint inside ed_gas (uninterrupted run: $wall s)" '[ $rc -eq 0 ]' \
+    || { tail "$scratch/chain.txt"; return; }
   stop_run   # kill -9
   echo "killed inside ed_gas; checkpoint at stage $(info_stage)"
-  leg 2 --restart "$out/checkpoint.h5" || { echo "FAIL: no checkpoint inside ls_compress"; tail "$scratch/chain.txt"; return 1; }
+  leg 2 --restart "$out/checkpoint.h5"; rc=$?
+  check "$np rank(s): a checkpoint inside ls_compress" '[ $rc -eq 0 ]' || { tail "$scratch/chain.txt"; return; }
   kill -USR1 $pid
   wait $pid; code=$?; pid=
-  [ $code -eq 75 ] || { echo "FAIL: SIGUSR1 inside ls_compress: exit $code"; tail "$scratch/chain.txt"; return 1; }
+  check "$np rank(s): SIGUSR1 inside ls_compress: exit $code (expected 75)" '[ $code -eq 75 ]' \
+    || { tail "$scratch/chain.txt"; return; }
   echo "stopped inside ls_compress (exit 75); checkpoint at stage $(info_stage)"
-  run "$out" --checkpoint-every-seconds 0.1 --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1 \
-    || { echo "FAIL: last restart"; tail "$scratch/chain.txt"; return 1; }
+  run "$out" --checkpoint-every-seconds 0.1 --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1
+  rc=$?; check "$np rank(s): last restart exits 0" '[ $rc -eq 0 ]' || { tail "$scratch/chain.txt"; return; }
   echo "uninterrupted run $wall s; the chain wrote $(inside) checkpoints inside a stage"
-  grep -q "inside stage 1 'melt'" "$out/log.txt" && grep -q "inside stage 2 'ls'" "$out/log.txt" \
-    || { echo "FAIL: the restarts did not resume inside both stages"; grep "restart from" "$out/log.txt"; return 1; }
+  in_melt=$(grep -c "inside stage 1 'melt'" "$out/log.txt") in_ls=$(grep -c "inside stage 2 'ls'" "$out/log.txt")
+  check "$np rank(s): a restart resumed inside ed_gas" '[ "$in_melt" -gt 0 ]' || grep "restart from" "$out/log.txt"
+  check "$np rank(s): a restart resumed inside ls_compress" '[ "$in_ls" -gt 0 ]' || grep "restart from" "$out/log.txt"
 
-  same_run "$whole" "$out" "$np"
+  check "$np rank(s): the chain ends as the uninterrupted run (final.h5 bit for bit, report.json)" \
+    'same_run "$whole" "$out" "$np"'
 }
-over_ranks "restart event driven"
+for n in 1 2; do
+  chain $n
+  stop_run
+done
+checks_done "restart event driven"

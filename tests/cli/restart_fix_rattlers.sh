@@ -15,6 +15,7 @@
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
 restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 deck=$scratch/fix.toml
 cat > "$deck" <<'TOML'
@@ -70,26 +71,38 @@ leg() {
 }
 info_stage() { "$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p'; }
 
+# chain NP: the uninterrupted run and the interrupted chain on NP ranks, compared. A failed
+# step ends the chain (the next ones need its files); the other rank count still runs.
 chain() {
   np=$1 whole=$scratch/whole$1 out=$scratch/chain$1
   t0=$(date +%s.%N)
-  run "$whole" > "$whole.txt" 2>&1 || { echo "FAIL: uninterrupted run"; tail "$whole.txt"; return 1; }
+  run "$whole" > "$whole.txt" 2>&1
+  rc=$?; check "$np rank(s): uninterrupted run exits 0" '[ $rc -eq 0 ]' || { tail "$whole.txt"; return; }
   wall=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.1f", b - a }')
   out=$whole; whole_inside=$(inside); out=$scratch/chain$1
 
-  leg || { echo "FAIL: no checkpoint inside fix_rattlers (uninterrupted run: $wall s)"; tail "$scratch/chain.txt"; return 1; }
+  leg; rc=$?
+  check "$np rank(s): a checkpoint inside fix_rattlers (uninterrupted run: $wall s)" '[ $rc -eq 0 ]' \
+    || { tail "$scratch/chain.txt"; return; }
   stop_run   # kill -9
   echo "killed inside fix_rattlers; checkpoint at stage $(info_stage)"
-  leg --restart "$out/checkpoint.h5" || { echo "FAIL: no second checkpoint inside fix_rattlers"; tail "$scratch/chain.txt"; return 1; }
+  leg --restart "$out/checkpoint.h5"; rc=$?
+  check "$np rank(s): a second checkpoint inside fix_rattlers" '[ $rc -eq 0 ]' || { tail "$scratch/chain.txt"; return; }
   stop_run
   echo "killed inside fix_rattlers again; checkpoint at stage $(info_stage)"
-  run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1 \
-    || { echo "FAIL: last restart"; tail "$scratch/chain.txt"; return 1; }
+  run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1
+  rc=$?; check "$np rank(s): last restart exits 0" '[ $rc -eq 0 ]' || { tail "$scratch/chain.txt"; return; }
   echo "uninterrupted run $wall s with $whole_inside checkpoints inside fix_rattlers; the chain wrote $(inside)"
-  [ "$(grep -c "inside stage 2 'fixed'" "$out/log.txt")" -eq 2 ] \
-    || { echo "FAIL: the restarts did not both resume inside fix_rattlers"; grep "restart from" "$out/log.txt"; return 1; }
+  resumed=$(grep -c "inside stage 2 'fixed'" "$out/log.txt")
+  check "$np rank(s): both restarts resumed inside fix_rattlers ($resumed)" '[ "$resumed" -eq 2 ]' \
+    || grep "restart from" "$out/log.txt"
   grep "resumed after" "$out/log.txt"
 
-  same_run "$whole" "$out" "$np"
+  check "$np rank(s): the chain ends as the uninterrupted run (final.h5 bit for bit, report.json)" \
+    'same_run "$whole" "$out" "$np"'
 }
-over_ranks "restart fix_rattlers"
+for n in 1 2; do
+  chain $n
+  stop_run
+done
+checks_done "restart fix_rattlers"

@@ -11,8 +11,8 @@
 # there): the previous checkpoint must still be the readable one.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-trap 'pkill -9 -f -- "$scratch/" 2>/dev/null; rm -rf "$scratch"' EXIT
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch 'pkill -9 -f -- "$scratch/" 2>/dev/null'   # on exit, also kill -9 this test's ranks
 RANDOM=2026
 deck=$scratch/restart.toml
 sed -e 's/^log_every = .*/log_every = 500/' "$GRANPACK_SOURCE_DIR/jobs/decks/ci/gas_small.toml" > "$deck"
@@ -31,9 +31,8 @@ TOML
 run() { local o=$1; shift; mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$o" --checkpoint-every-steps 150 --checkpoint-every-seconds 0 -q "$@"; }
 
 t0=$(date +%s.%N)
-if ! run "$scratch/whole" > "$scratch/whole.txt" 2>&1; then
-  echo "FAIL: the uninterrupted run failed"; tail -20 "$scratch/whole.txt"; exit 1
-fi
+run "$scratch/whole" > "$scratch/whole.txt" 2>&1
+rc=$?; check "the uninterrupted run exits 0" '[ $rc -eq 0 ]' || checks_stop "restart kill" "$scratch/whole.txt"
 # Kill delays scale with the machine's speed: 10 to 25 % of the uninterrupted wall time.
 wall=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.2f", b - a }')
 
@@ -53,9 +52,9 @@ start_leg() {
 after_kill() {
   kills=$((kills + 1))
   wait $pid 2>/dev/null
-  if [ -f "$out/checkpoint.h5" ] && ! "$GRANPACK_EXE" info "$out/checkpoint.h5" > "$scratch/info.txt" 2>&1; then
-    echo "FAIL: after kill $kills the checkpoint is not readable:"; cat "$scratch/info.txt"; exit 1
-  fi
+  check "after kill $kills the checkpoint is readable (or none was written yet)" \
+    '! [ -f "$out/checkpoint.h5" ] || "$GRANPACK_EXE" info "$out/checkpoint.h5" > "$scratch/info.txt" 2>&1' \
+    || checks_stop "restart kill" "$scratch/info.txt"
 }
 # Phase 1: kills at random instants. Five: their delays (seed 2026) add up to 0.89 of the
 # uninterrupted wall time, so the chain cannot finish here and phase 2 always runs (with eight,
@@ -85,16 +84,15 @@ for attempt in $(seq 1 4); do
 done
 if [ ! -f "$out/final.h5" ]; then
   restarts=$((restarts + 1))
-  if ! run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1; then
-    echo "FAIL: the last restart failed"; tail -20 "$scratch/chain.txt"; exit 1
-  fi
+  run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1
+  rc=$?; check "the last restart exits 0" '[ $rc -eq 0 ]' || checks_stop "restart kill" "$scratch/chain.txt"
 fi
 echo "uninterrupted run: $wall s; kill -9: $kills kills ($during_write while a checkpoint was being written), $restarts restarts, $fresh fresh starts"
-if ! /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$scratch/whole/final.h5" "$out/final.h5"; then
-  echo "restart kill: 0 passed, 1 failed"; tail -30 "$scratch/chain.txt"; exit 1
-fi
+check "the killed-and-restarted chain ends as the uninterrupted run (final.h5 bit for bit)" \
+  '/usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$scratch/whole/final.h5" "$out/final.h5"' \
+  || tail -30 "$scratch/chain.txt"
 # The restarted run's report has every stage once, in order.
-if ! /usr/bin/python3 - "$scratch/whole/report.json" "$out/report.json" <<'PY'
+/usr/bin/python3 - "$scratch/whole/report.json" "$out/report.json" <<'PY'
 import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:3])
 na, nb = [s["name"] for s in a["stages"]], [s["name"] for s in b["stages"]]
@@ -102,8 +100,7 @@ assert na == nb, (na, nb)
 for x, y in zip(a["stages"], b["stages"]):
     assert x["steps"] == y["steps"] and x["phi"] == y["phi"], (x["name"], x["steps"], y["steps"])
 PY
-then echo "FAIL: report.json of the restarted chain differs"; exit 1; fi
-if [ $kills -lt 6 ] || [ $during_write -lt 2 ]; then
-  echo "FAIL: only $kills kills, $during_write during a write: the test did not test"; exit 1
-fi
-echo "restart kill: 1 passed, 0 failed"
+rc=$?; check "report.json of the restarted chain: every stage once, in order, the same steps and phi" '[ $rc -eq 0 ]'
+check "the test tested: $kills kills (at least 6), $during_write during a write (at least 2)" \
+  '! { [ $kills -lt 6 ] || [ $during_write -lt 2 ]; }'
+checks_done "restart kill"

@@ -14,36 +14,31 @@
 #  - the LS stage reports its collisions per grain.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
-status=0
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
+ran=0
 for deck in AC_small B_small D_small; do
-  if ! mpiexec -n 2 "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/$deck.toml" \
-       -o "$scratch/$deck" --quiet > "$scratch/$deck.txt" 2>&1; then
-    echo "FAIL: $deck did not run:"; tail -20 "$scratch/$deck.txt"; status=1
-  fi
+  mpiexec -n 2 "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/$deck.toml" \
+    -o "$scratch/$deck" --quiet > "$scratch/$deck.txt" 2>&1
+  rc=$?; check "$deck runs (exit $rc)" '[ $rc -eq 0 ]' && ran=$((ran + 1)) || tail -20 "$scratch/$deck.txt"
 done
-[ $status -eq 0 ] || exit 1
+[ $ran -eq 3 ] || checks_stop states_small
 # granpack analyze of the C packing on 1 and 2 ranks (compared below).
 for np in 1 2; do
-  if ! mpiexec -n $np "$GRANPACK_EXE" analyze "$scratch/AC_small/final.h5" --json "$scratch/analysis_np$np.json" \
-       --h5 "$scratch/analysis_np$np.h5" \
-       > "$scratch/analyze_np$np.txt" 2>&1; then
-    echo "FAIL: analyze on $np rank(s):"; tail -20 "$scratch/analyze_np$np.txt"; exit 1
-  fi
+  mpiexec -n $np "$GRANPACK_EXE" analyze "$scratch/AC_small/final.h5" --json "$scratch/analysis_np$np.json" \
+    --h5 "$scratch/analysis_np$np.h5" > "$scratch/analyze_np$np.txt" 2>&1
+  rc=$?; check "analyze on $np rank(s) exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/analyze_np$np.txt"
 done
-/usr/bin/python3 - "$scratch" <<'PY'
+# The metrics: one line per check (cli_checks.sh checks_from), named by what a failure means.
+/usr/bin/python3 - "$scratch" > "$scratch/py.txt" 2>&1 <<'PY'
 import json, sys
 d = sys.argv[1]
 def stages(deck):
     return {s["name"]: s for s in json.load(open(f"{d}/{deck}/report.json"))["stages"]}
 ac, b, dd = stages("AC_small"), stages("B_small"), stages("D_small")
 A, C, B, D, Q, F = ac["A"], ac["C"], b["B"], dd["D"], dd["qs"], dd["fixed"]
-fails, checks = [], 0
 def check(what, ok):
-    global checks
-    checks += 1
-    if not ok: fails.append(what)
+    print(("ok: " if ok else "FAIL: ") + what)
 def band(name, s, key, lo, hi):
     v = s[key]
     check(f"{name} {key} = {v} outside [{lo}, {hi}]", v is not None and lo <= v <= hi)
@@ -107,7 +102,6 @@ with h5py.File(f"{d}/analysis_np2.h5", "r") as h:
         group, key = path.split("/")
         check(f"analyze --h5 {path} differs from the JSON", list(h[path][:]) == an[group][key])
     check("analyze --h5 z_star attribute", h.attrs["z_star"] == an["z_star"])
-for f in fails: print("FAIL:", f)
-print(f"states_small: {checks - len(fails)} passed, {len(fails)} failed")
-sys.exit(1 if fails else 0)
 PY
+checks_from "the metric checks" "$scratch/py.txt" $?
+checks_done states_small

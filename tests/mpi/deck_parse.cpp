@@ -1,11 +1,22 @@
-// Deck parsing and validation (the end-to-end exit-code checks are in tests/cli/bad_decks.sh).
+// Deck parsing and validation, and the refusal of every deck of tests/decks/bad/ (BadDeck.*);
+// tests/cli/bad_decks.sh keeps one end-to-end case per way in (exit code, message printed once,
+// nothing written).
 #include <gtest/gtest.h>
+#include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
+#include "granpack/prep/run_deck.h"
 #include "test_paths.h"
 
 using namespace granpack;
@@ -208,4 +219,72 @@ TEST(Deck, EveryShippedDeckIsValid) {
     ++count;
   }
   EXPECT_GE(count, 1);
+}
+
+// The decks of tests/decks/bad/, each refused as `granpack run` refuses it before any work
+// (load_deck_collectively: read on rank 0, broadcast, validated on every rank), with an
+// InputError (exit code 2) whose message matches the deck's first line "# expect: REGEX"
+// (line by line, as grep -E matches it; the patterns use only syntax that grep -E and
+// std::regex's ECMAScript grammar read alike): the file and line, the key with its table path,
+// the value and what is allowed. Every rank must throw it (validation stops all ranks
+// together). tests/cli/bad_decks.sh runs unknown_key and syntax_error end to end.
+namespace {
+const std::vector<std::string> kBadDecks = {
+    "ed_gas_missing",    "expand_shrinks", "lattice_count",
+    "ls_above_jamming",  "missing_key",    "n_zero",
+    "negative_mu",       "no_stage",       "phi_above_one",
+    "placement_unknown", "poisson_range",  "pressure_steps_first",
+    "read_not_first",    "syntax_error",   "unknown_key",
+    "unknown_stage",     "unknown_table",  "wrong_type",
+    "zeta_one"};
+
+std::filesystem::path bad_deck_dir() { return test::source_dir() / "tests" / "decks" / "bad"; }
+
+/// REGEX of the deck's first line "# expect: REGEX", or "" without one.
+std::string expectation_of(const std::filesystem::path& deck) {
+  std::ifstream in(deck);
+  std::string first;
+  std::getline(in, first);
+  const std::string tag = "# expect: ";
+  return first.rfind(tag, 0) == 0 ? first.substr(tag.size()) : std::string();
+}
+
+/// grep -Eq: does some line of `text` hold a match of the regular expression?
+bool some_line_matches(const std::string& text, const std::string& pattern) {
+  const std::regex re(pattern);
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (std::regex_search(line, re)) return true;
+  return false;
+}
+}  // namespace
+
+class BadDeck : public testing::TestWithParam<std::string> {};
+
+TEST_P(BadDeck, RefusedNamingTheFileTheKeyAndWhatIsAllowed) {
+  const std::filesystem::path deck = bad_deck_dir() / (GetParam() + ".toml");
+  const std::string expect = expectation_of(deck);
+  ASSERT_FALSE(expect.empty()) << deck << " has no first line '# expect: REGEX'";
+  try {
+    load_deck_collectively(MPI_COMM_WORLD, deck, std::nullopt);
+    ADD_FAILURE() << deck << " was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.exit_code(), kExitBadInput);
+    EXPECT_TRUE(some_line_matches(e.what(), expect))
+        << "the message\n  " << e.what() << "\ndoes not match /" << expect << "/";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Decks, BadDeck, testing::ValuesIn(kBadDecks),
+                         [](const testing::TestParamInfo<std::string>& p) { return p.param; });
+
+// A deck added to tests/decks/bad/ is checked too: the list above is the directory.
+TEST(BadDecks, TheListIsTheDirectory) {
+  std::vector<std::string> found;
+  for (const auto& e : std::filesystem::directory_iterator(bad_deck_dir()))
+    if (e.path().extension() == ".toml") found.push_back(e.path().stem().string());
+  std::sort(found.begin(), found.end());
+  std::vector<std::string> listed = kBadDecks;
+  std::sort(listed.begin(), listed.end());
+  EXPECT_EQ(found, listed);
 }
