@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "granpack/app/analyze.h"
+#include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/core/error.h"
 #include "granpack/io/report.h"
@@ -154,8 +155,7 @@ std::vector<std::filesystem::path> configurations(const std::filesystem::path& d
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     const auto p = e.path();
     const std::string stem = p.stem().string();
-    if (p.extension() == ".h5" && stem != "final" && stem != "checkpoint" && stem != "postmortem" &&
-        p.filename().string().find(".analysis.") == std::string::npos)
+    if (p.extension() == ".h5" && stem != "final" && stem != "checkpoint" && stem != "postmortem")
       files.push_back(p);
   }
   if (files.empty() && std::filesystem::exists(dir / "final.h5")) files.push_back(dir / "final.h5");
@@ -271,10 +271,7 @@ std::string summarize_ensemble(MPI_Comm world, const EnsembleSummaryOptions& opt
       }
     listing = todo.dump();
   });
-  long long len = static_cast<long long>(listing.size());
-  MPI_Bcast(&len, 1, MPI_LONG_LONG, 0, world);
-  listing.resize(static_cast<std::size_t>(len));
-  MPI_Bcast(listing.data(), static_cast<int>(len), MPI_CHAR, 0, world);
+  broadcast_string(world, listing);
   for (const auto& item : json::parse(listing)) {
     AnalyzeOptions a;
     a.file = item[0].get<std::string>();

@@ -65,6 +65,9 @@ std::string reseeded_deck_text(const std::string& text, const std::string& file,
                           " (the deck says " + std::to_string(own) + ")";
 
   const auto& sample = root.as_table().at("sample");
+  // A deck without [sample] seed gets the line right after its [sample] header, which moves
+  // every later line (the stage seeds found below) down by one.
+  std::size_t inserted_after = 0;  // 1-based line of the header; 0: nothing inserted
   if (sample.as_table().count("seed")) {
     replace_seed_line(lines, sample.as_table().at("seed").location().line(), seed, file, why);
   } else {
@@ -73,17 +76,10 @@ std::string reseeded_deck_text(const std::string& text, const std::string& file,
                            [](const std::string& l) { return std::regex_match(l, header); });
     if (it == lines.end())
       throw InputError(file + ": cannot add the seed for --seed/--samples: no `[sample]` header line");
+    inserted_after = static_cast<std::size_t>(it - lines.begin()) + 1;
     lines.insert(it + 1, "seed = " + std::to_string(seed) + "  # " + why);
   }
   const auto& stages = root.as_table().at("stage").as_array();
-  // An inserted [sample] seed line moves every later line down by one.
-  const std::size_t offset = sample.as_table().count("seed") ? 0 : 1;
-  std::size_t sample_line = 0;
-  if (offset) {
-    static const std::regex header(R"(^\s*\[\s*sample\s*\]\s*(#.*)?$)");
-    for (std::size_t i = 0; i < lines.size(); ++i)
-      if (std::regex_match(lines[i], header)) sample_line = i + 1;
-  }
   for (const auto& st : stages) {
     if (!st.is_table() || !st.as_table().count("seed")) continue;
     const auto& v = st.as_table().at("seed");
@@ -94,7 +90,7 @@ std::string reseeded_deck_text(const std::string& text, const std::string& file,
                        std::to_string(old) + " shifted by the sample seed leaves 0.." +
                        std::to_string(kMaxSeed) + "; choose a smaller stage seed");
     std::size_t line = v.location().line();
-    if (offset && line > sample_line) line += offset;
+    if (inserted_after && line > inserted_after) ++line;
     replace_seed_line(lines, line, shifted, file, why);
   }
   std::string out;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/io/log.h"
 #include "granpack/prep/stop_signals.h"
@@ -69,10 +70,8 @@ void idle_barrier(MPI_Comm world) {
 
 /// The job's exit code from the groups': an error beats a checkpointed stop beats success.
 int combine_codes(MPI_Comm world, int code) {
-  int error = (code != kExitOk && code != kExitCheckpointed) ? code : 0;
-  int stopped = code == kExitCheckpointed ? 1 : 0;
-  MPI_Allreduce(MPI_IN_PLACE, &error, 1, MPI_INT, MPI_MAX, world);
-  MPI_Allreduce(MPI_IN_PLACE, &stopped, 1, MPI_INT, MPI_MAX, world);
+  const int error = global_max(world, (code != kExitOk && code != kExitCheckpointed) ? code : 0);
+  const int stopped = global_max(world, code == kExitCheckpointed ? 1 : 0);
   return error ? error : (stopped ? kExitCheckpointed : kExitOk);
 }
 
@@ -113,9 +112,7 @@ int run_ensemble(MPI_Comm world, const EnsembleOptions& o) {
   for (int k = color; k < o.samples; k += groups) {
     const std::uint64_t seed = o.first_seed + static_cast<std::uint64_t>(k);
     // A stop signal between two samples: start no new one.
-    int stop = stop_signal_received() != 0 ? 1 : 0;
-    MPI_Allreduce(MPI_IN_PLACE, &stop, 1, MPI_INT, MPI_MAX, group);
-    if (stop) {
+    if (global_max(group, stop_signal_received() != 0 ? 1 : 0)) {
       code = std::max(code, static_cast<int>(kExitCheckpointed));
       break;
     }

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <sstream>
 
+#include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
@@ -31,10 +32,7 @@ Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path,
     }
   }
   MPI_Bcast(&ok, 1, MPI_INT, 0, world);
-  long long len = static_cast<long long>(text.size());
-  MPI_Bcast(&len, 1, MPI_LONG_LONG, 0, world);
-  text.resize(static_cast<std::size_t>(len));
-  MPI_Bcast(text.data(), static_cast<int>(len), MPI_CHAR, 0, world);
+  broadcast_string(world, text);
   if (!ok) throw InputError(text);  // on every rank, same message
   if (seed) text = reseeded_deck_text(text, path.string(), *seed);
   return parse_deck(text, path.string());

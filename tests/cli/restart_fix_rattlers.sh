@@ -101,8 +101,5 @@ chain() {
   check "$np rank(s): the chain ends as the uninterrupted run (final.h5 bit for bit, report.json)" \
     'same_run "$whole" "$out" "$np"'
 }
-for n in 1 2; do
-  chain $n
-  stop_run
-done
+over_ranks
 checks_done "restart fix_rattlers"

@@ -16,6 +16,11 @@ inline std::int64_t global_sum(MPI_Comm comm, std::int64_t x) {
   MPI_Allreduce(&x, &y, 1, MPI_INT64_T, MPI_SUM, comm);
   return y;
 }
+inline int global_max(MPI_Comm comm, int x) {
+  int y = 0;
+  MPI_Allreduce(&x, &y, 1, MPI_INT, MPI_MAX, comm);
+  return y;
+}
 inline double global_max(MPI_Comm comm, double x) {
   double y = 0;
   MPI_Allreduce(&x, &y, 1, MPI_DOUBLE, MPI_MAX, comm);
