@@ -6,6 +6,7 @@
 # the fixture and fails (exit 1, naming the cell) once C's z* is shifted by 5 sd; a missing
 # ensemble file, a missing key and a malformed tolerance line give exit 2 with a message
 # naming the file (and line or key); fig. 4 is written from A's P(f).
+# ctest: PROCESSORS 1   (one process at a time: ctest -j2 runs another test beside it)
 set -u
 : "${GRANPACK_SOURCE_DIR:?}"
 tool="$GRANPACK_SOURCE_DIR/jobs/tools/ar_tables.py"
@@ -16,7 +17,6 @@ py=/usr/bin/python3
 cli_scratch
 export MPLCONFIGDIR="$scratch/mpl"
 states=(--state "A=$fixture:A" --state "C=$fixture:C")
-is_png() { [ -s "$1" ] && [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
 
 # (1) Table IV: the C rows, and the expected cells computed from the fixture's values.
 "$py" "$tool" --tables IV "${states[@]}" > "$scratch/iv.md" 2> "$scratch/iv.err"
@@ -43,8 +43,7 @@ check "table IV: A' row from the text (0.6422 ± 0.0002), n. d. where [AR] give 
 check "no traceback" "! grep -q Traceback '$scratch/iv.err'"
 
 # (2) The CI check: within tolerance, then C's z* shifted by 5 sd.
-"$py" "$tool" --check "$tolerances" "${states[@]}" > "$scratch/ok.txt" 2>&1
-rc=$?; check "check on the fixture: exit 0 ($(tail -1 "$scratch/ok.txt"))" "[ $rc -eq 0 ]"
+check_exit "check on the fixture" 0 "$scratch/ok.txt" "$py" "$tool" --check "$tolerances" "${states[@]}"
 check "check on the fixture: 15 cells of A and C checked" \
   "grep -q '15 cells checked' '$scratch/ok.txt'"
 "$py" - "$fixture" "$scratch/shifted.json" <<'PY'
@@ -56,43 +55,32 @@ s["values"] = [v + shift for v in s["values"]]
 s["mean"] += shift
 json.dump(d, open(sys.argv[2], "w"))
 PY
-"$py" "$tool" --check "$tolerances" --state "A=$scratch/shifted.json:A" \
-  --state "C=$scratch/shifted.json:C" > "$scratch/bad.txt" 2>&1
-rc=$?
-check "check with C z* + 5 sd: exit 1 ($rc)" "[ $rc -eq 1 ]"
+check_exit "check with C z* + 5 sd" 1 "$scratch/bad.txt" \
+  "$py" "$tool" --check "$tolerances" --state "A=$scratch/shifted.json:A" --state "C=$scratch/shifted.json:C"
 check "check with C z* + 5 sd: names the cell ($(grep FAIL "$scratch/bad.txt"))" \
   "grep -q '^FAIL table IV C z\*: ours .* \[AR\] 4.56 ± 0.03, dev +[0-9.]*, allowed |dev| <= [0-9.]*' '$scratch/bad.txt'"
 check "check with C z* + 5 sd: only that cell fails" "[ \$(grep -c '^FAIL' '$scratch/bad.txt') -eq 1 ]"
 
 # (3) Bad input: exit 2 with a message naming the file, key or line.
-"$py" "$tool" --check "$tolerances" --state "C=$scratch/nowhere/ensemble.json:C" > "$scratch/miss.txt" 2>&1
-rc=$?
-check "missing ensemble file: exit 2 ($rc)" "[ $rc -eq 2 ]"
-check "missing ensemble file: message names it ($(cat "$scratch/miss.txt"))" \
-  "grep -q 'nowhere/ensemble.json: no such file' '$scratch/miss.txt' && ! grep -q Traceback '$scratch/miss.txt'"
-"$py" "$tool" --tables IV --state "C=$scratch/nowhere/ensemble.json:C" > /dev/null 2>&1
-rc=$?; check "missing ensemble file when printing: exit 2 ($rc)" "[ $rc -eq 2 ]"
+check_refused "missing ensemble file, named" 2 "nowhere/ensemble.json: no such file" "$scratch/miss.txt" \
+  "$py" "$tool" --check "$tolerances" --state "C=$scratch/nowhere/ensemble.json:C"
+check_exit "missing ensemble file when printing" 2 "$scratch/miss_tables.txt" \
+  "$py" "$tool" --tables IV --state "C=$scratch/nowhere/ensemble.json:C"
 "$py" - "$fixture" "$scratch/nokey.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 del d["analysis"]["C"]["/Z_2"]
 json.dump(d, open(sys.argv[2], "w"))
 PY
-"$py" "$tool" --check "$tolerances" --state "C=$scratch/nokey.json:C" > "$scratch/nokey.txt" 2>&1
-rc=$?
-check "missing key: exit 2 naming file and key ($(cat "$scratch/nokey.txt"))" \
-  "[ $rc -eq 2 ] && grep -q \"nokey.json: analysis 'C' has no value for key '/Z_2'\" '$scratch/nokey.txt'"
+check_refused "missing key, naming file and key" 2 "nokey.json: analysis 'C' has no value for key '/Z_2'" \
+  "$scratch/nokey.txt" "$py" "$tool" --check "$tolerances" --state "C=$scratch/nokey.json:C"
 sed 's/^| C | Φ | 2 |/| C | Φ | two |/' "$tolerances" > "$scratch/tol.md"
 line=$(grep -n '^| C | Φ | two |' "$scratch/tol.md" | cut -d: -f1)
-"$py" "$tool" --check "$scratch/tol.md" "${states[@]}" > "$scratch/tol.txt" 2>&1
-rc=$?
-check "malformed tolerance: exit 2 naming file and line $line ($(cat "$scratch/tol.txt"))" \
-  "[ $rc -eq 2 ] && grep -q \"tol.md line $line: tolerance 'two' is not allowed\" '$scratch/tol.txt'"
+check_refused "malformed tolerance, naming file and line $line" 2 "tol.md line $line: tolerance 'two' is not allowed" \
+  "$scratch/tol.txt" "$py" "$tool" --check "$scratch/tol.md" "${states[@]}"
 sed 's/^| C | Φ | 2 |/| C | M3 | 2 |/' "$tolerances" > "$scratch/tol2.md"
-"$py" "$tool" --check "$scratch/tol2.md" "${states[@]}" > "$scratch/tol2.txt" 2>&1
-rc=$?
-check "unknown quantity in the tolerances: exit 2 listing the allowed ones ($(cat "$scratch/tol2.txt"))" \
-  "[ $rc -eq 2 ] && grep -q \"no \[AR\] value for quantity 'M3'; allowed for C: \" '$scratch/tol2.txt'"
+check_refused "unknown quantity in the tolerances, listing the allowed ones" 2 \
+  "no \[AR\] value for quantity 'M3'; allowed for C: " "$scratch/tol2.txt" "$py" "$tool" --check "$scratch/tol2.md" "${states[@]}"
 
 # Fig. 4 from A's P(f); the figures that have no input are skipped with a note.
 "$py" "$tool" --tables IV "${states[@]}" --figures "$scratch/figs" > /dev/null 2> "$scratch/figs.txt"

@@ -11,12 +11,10 @@ gas=$GRANPACK_SOURCE_DIR/jobs/decks/ci/gas_small.toml
 sed 's/^young_modulus = 2.88e8.*/young_modulus = 2.0e4/' "$gas" > "$scratch/soft.toml"
 sed 's/^log_every = 5000/log_every = 5000\n[numerics]\nskin = 1.0e-5/' "$gas" > "$scratch/thin.toml"
 goes_bad() {  # NAME PHRASE: the run of NAME.toml ends as above, its diagnosis matching PHRASE (regex)
-  local name=$1 phrase=$2 code
-  timeout 300 mpiexec -n 2 "$GRANPACK_EXE" run "$scratch/$name.toml" -o "$scratch/$name" -q \
-    > "$scratch/$name.txt" 2>&1
-  code=$?
+  local name=$1 phrase=$2
+  check_exit "$name (124 is a hang)" 1 "$scratch/$name.txt" \
+    timeout 300 mpiexec -n 2 "$GRANPACK_EXE" run "$scratch/$name.toml" -o "$scratch/$name" -q
   grep "error" "$scratch/$name.txt" | head -2
-  check "$name: exit code $code (expected 1; 124 is a hang)" '[ $code -eq 1 ]' || tail -5 "$scratch/$name.txt"
   check "$name: the diagnosis says '$phrase'" 'grep -Eq "$phrase" "$scratch/$name.txt"'
   check "$name: a likely fix" 'grep -q "likely" "$scratch/$name.txt"'
   check "$name: postmortem.h5 written and readable" \

@@ -11,14 +11,13 @@ cli_scratch
 packing="$GRANPACK_SOURCE_DIR/docs/data/A_n4000_seed1.h5"
 
 for np in 1 2; do
-  mpiexec -n $np "$GRANPACK_EXE" bench "$packing" --steps 20 --json "$scratch/np$np.json" \
-    --static-forces "$scratch/forces$np.txt" --lammps-data "$scratch/bench$np.data" > "$scratch/np$np.txt" 2>&1
-  rc=$?; check "bench on $np rank(s) exits 0" "[ $rc -eq 0 ]"
+  check_exit "bench on $np rank(s)" 0 "$scratch/np$np.txt" granpack_on $np bench "$packing" --steps 20 \
+    --json "$scratch/np$np.json" --static-forces "$scratch/forces$np.txt" --lammps-data "$scratch/bench$np.data"
   check "report on $np rank(s)" "grep -q 'particle-steps/s per rank' '$scratch/np$np.txt'"
   check "static forces of every grain ($np)" "[ \$(grep -vc '^#' '$scratch/forces$np.txt') -eq 4000 ]"
   check "LAMMPS data file ($np)" "grep -q '^4000 atoms' '$scratch/bench$np.data'"
 done
-/usr/bin/python3 - "$scratch/np1.json" "$scratch/np2.json" <<'PY' > "$scratch/py.txt" 2>&1
+check_python "1 and 2 ranks agree on the static state" "$scratch/py.txt" "$scratch/np1.json" "$scratch/np2.json" <<'PY'
 import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
 assert a["n"] == b["n"] == 4000 and a["ranks"] == 1 and b["ranks"] == 2, (a, b)
@@ -28,8 +27,6 @@ assert a["static_contacts"] == b["static_contacts"], (a, b)
 # dt comes from the mean overlap, a global sum whose order depends on the rank count.
 assert abs(a["dt"] - b["dt"]) < 1e-12 * a["dt"] and a["particle_steps_per_s_per_rank"] > 0, (a["dt"], b["dt"])
 PY
-rc=$?; check "1 and 2 ranks agree on the static state ($(tail -1 "$scratch/py.txt"))" "[ $rc -eq 0 ]"
-mpiexec -n 1 "$GRANPACK_EXE" bench "$packing" --replicate 0 1 1 > "$scratch/bad.txt" 2>&1
-rc=$?; check "--replicate 0 refused with exit 2" "[ $rc -eq 2 ] && grep -q 'replicate' '$scratch/bad.txt'"
+check_refused "--replicate 0 refused" 2 "replicate" "$scratch/bad.txt" granpack_on 1 bench "$packing" --replicate 0 1 1
 
 checks_done bench_smoke

@@ -26,8 +26,8 @@ set -u
 cli_scratch
 deck="$GRANPACK_SOURCE_DIR/jobs/decks/2d/method1_cohesive_small.toml"
 for np in 1 2; do
-  mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$scratch/np$np" --quiet > "$scratch/np$np.txt" 2>&1
-  rc=$?; check "run on $np rank(s) exits 0" '[ $rc -eq 0 ]' || checks_stop cohesive_2d "$scratch/np$np.txt"
+  check_exit "run on $np rank(s)" 0 "$scratch/np$np.txt" granpack_on $np run "$deck" -o "$scratch/np$np" --quiet \
+    || checks_stop cohesive_2d
 done
 # --quiet: no progress lines on the terminal, but log.txt keeps them (a batch job's progress).
 check "--quiet keeps progress lines out of the terminal" "! grep -q '^  step ' '$scratch/np2.txt'"
@@ -45,15 +45,14 @@ done
 # with rolling resistance at P* = 0.01 is rigid (only the 2 translations), K(1) is positive
 # definite; G has 3 rows per contact and 1 per distant pair; both runs agree.
 for np in 1 2; do
-  mpiexec -n $np "$GRANPACK_EXE" stiffness "$scratch/np2/final.h5" --json "$scratch/st$np.json" > "$scratch/st$np.txt" 2>&1
-  rc=$?; check "stiffness on $np rank(s) exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/st$np.txt"
+  check_exit "stiffness on $np rank(s)" 0 "$scratch/st$np.txt" \
+    granpack_on $np stiffness "$scratch/np2/final.h5" --json "$scratch/st$np.json"
 done
 # The Python blocks print one line per check (cli_checks.sh checks_from).
 /usr/bin/python3 - "$scratch" > "$scratch/st_py.txt" 2>&1 <<'PY'
 import json, sys
+from checks import check
 d = sys.argv[1]
-def check(name, ok):
-    print(("ok: " if ok else "FAIL: ") + name)
 a, b = (json.load(open(f"{d}/st{n}.json")) for n in (1, 2))
 for j in (a, b):
     check(f"stiffness, ranks {j['ranks']}: rigid {j['rigid']}, positive definite {j['positive_definite']}, k {j['mechanisms']} = 2",
@@ -69,15 +68,14 @@ print(f"stiffness: H {a['H']} (eq. 21), B {a['bulk_modulus']:.6g} N/m on 1 and 2
 PY
 checks_from "the stiffness checks" "$scratch/st_py.txt" $?
 for np in 1 2; do
-  mpiexec -n $np "$GRANPACK_EXE" analyze "$scratch/np2/final.h5" --json "$scratch/an$np.json" > "$scratch/an$np.txt" 2>&1
-  rc=$?; check "analyze on $np rank(s) exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/an$np.txt"
+  check_exit "analyze on $np rank(s)" 0 "$scratch/an$np.txt" \
+    granpack_on $np analyze "$scratch/np2/final.h5" --json "$scratch/an$np.json"
 done
 /usr/bin/python3 - "$scratch" > "$scratch/py.txt" 2>&1 <<'PY'
 import json, sys
 import h5py, numpy as np
+from checks import check
 d = sys.argv[1]
-def check(name, ok):
-    print(("ok: " if ok else "FAIL: ") + name)
 # The deck's parameters (jobs/decks/2d/method1_cohesive_small.toml).
 a, F0, D0, KN, mu, Kr, mur, P = 1e-3, 1.0, 1e-6, 1e7, 0.5, 1e-3, 5e-6, 10.0
 for np_ in (1, 2):

@@ -13,6 +13,7 @@
 # moment taken on the first grain (moments, files with K_r > 0). Negative controls on copies: T
 # negated, rolling negated -> fail; the pair swapped with T and rolling negated (the rule of
 # jobs/tools/replicate.py) -> still balanced.
+# ctest: PROCESSORS 1   (one process at a time: ctest -j2 runs another test beside it)
 set -u
 : "${GRANPACK_SOURCE_DIR:?}"
 py=/usr/bin/python3
@@ -133,10 +134,9 @@ if __name__ == "__main__":
     sys.exit(1 if main(sys.argv[1:]) else 0)
 PY
 
-"$py" "$scratch/signs.py" "$data"/*.h5 "$data"/2d/*.h5 > "$scratch/all.txt" 2>&1
-rc=$?
+check_exit "committed files: every equilibrated file balances" 0 "$scratch/all.txt" \
+  "$py" "$scratch/signs.py" "$data"/*.h5 "$data"/2d/*.h5
 cat "$scratch/all.txt"  # the numbers, for the test log
-check "committed files: every equilibrated file balances (exit $rc)" "[ $rc -eq 0 ]"
 check "no traceback" "! grep -q Traceback '$scratch/all.txt'"
 n_ok=$(grep -c '^ok ' "$scratch/all.txt")
 check "at least 30 files checked (got $n_ok)" "[ $n_ok -ge 30 ]"
@@ -146,7 +146,7 @@ check "2D with rolling resistance: rolling moment -K_r rolling on the second gra
   "grep -q '^ok   2d/seriesA_rr_P0.01.h5: .*rolling moment' '$scratch/all.txt'"
 
 # Negative controls on copies: the check must see a wrong sign.
-"$py" - "$data" "$scratch" <<'PY'
+check_python "negative controls written" "$scratch/controls.txt" "$data" "$scratch" <<'PY'
 import shutil, sys
 import h5py
 data, out = sys.argv[1:]
@@ -169,16 +169,11 @@ edit("2d/seriesA_rr_P0.01.h5", "rr_rolling_negated.h5", neg("rolling"))
 edit("2d/seriesA_rr_P0.01.h5", "rr_swapped.h5", swap)
 PY
 for bad in D_T_negated rr_rolling_negated; do
-  "$py" "$scratch/signs.py" "$scratch/$bad.h5" > "$scratch/$bad.txt" 2>&1
-  rc=$?
-  check "$bad: refused ($(cat "$scratch/$bad.txt"))" \
-    "[ $rc -ne 0 ] && grep -q '^FAIL ' '$scratch/$bad.txt'"
+  check_refused "$bad: refused" '!0' '^FAIL ' "$scratch/$bad.txt" "$py" "$scratch/signs.py" "$scratch/$bad.h5"
 done
 for good in D_swapped rr_swapped; do
-  "$py" "$scratch/signs.py" "$scratch/$good.h5" > "$scratch/$good.txt" 2>&1
-  rc=$?
-  check "$good (first/second swapped, T and rolling negated): balanced ($(cat "$scratch/$good.txt"))" \
-    "[ $rc -eq 0 ] && grep -q '^ok ' '$scratch/$good.txt'"
+  check_refused "$good (first/second swapped, T and rolling negated): balanced" 0 '^ok ' "$scratch/$good.txt" \
+    "$py" "$scratch/signs.py" "$scratch/$good.h5"
 done
 
 checks_done contact_signs

@@ -39,8 +39,8 @@ report_phi = [0.5]
 TOML
 } > "$scratch/ed.toml"
 for np in 1 2; do
-  mpiexec -n $np "$GRANPACK_EXE" run "$scratch/ed.toml" -o "$scratch/np$np" --quiet > "$scratch/np$np.txt" 2>&1
-  rc=$?; check "run on $np rank(s) exits 0" '[ $rc -eq 0 ]' || checks_stop hard_sphere_stages "$scratch/np$np.txt"
+  check_exit "run on $np rank(s)" 0 "$scratch/np$np.txt" granpack_on $np run "$scratch/ed.toml" -o "$scratch/np$np" --quiet \
+    || checks_stop hard_sphere_stages
 done
 # The read stage starts a run from a stored file (here the gas written on 2 ranks, read on 1).
 { printf '%s' "$header"; cat <<TOML
@@ -49,15 +49,14 @@ kind = "read"
 file = "$scratch/np2/gas.h5"
 TOML
 } > "$scratch/read.toml"
-mpiexec -n 1 "$GRANPACK_EXE" run "$scratch/read.toml" -o "$scratch/read" --quiet > "$scratch/read.txt" 2>&1
-rc=$?; check "read stage run exits 0" '[ $rc -eq 0 ]' || checks_stop hard_sphere_stages "$scratch/read.txt"
+check_exit "read stage run" 0 "$scratch/read.txt" granpack_on 1 run "$scratch/read.toml" -o "$scratch/read" --quiet \
+  || checks_stop hard_sphere_stages
 # The files, checked independently of the engine: one line per check (cli_checks.sh checks_from).
 /usr/bin/python3 - "$scratch" > "$scratch/py.txt" 2>&1 <<'PY'
 import json, sys
 import h5py, numpy as np
+from checks import check
 d = sys.argv[1]
-def check(name, ok):
-    print(("ok: " if ok else "FAIL: ") + name)
 def load(path):
     with h5py.File(path, "r") as f:
         order = np.argsort(f["particles/id"][:])

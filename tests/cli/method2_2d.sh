@@ -13,7 +13,8 @@
 # - the aggregation keeps the fixed cell's Phi; the relaxation at P* = 0 changes it by less
 #   than 5 %; the strain rate of the P* = 0.01 compression stayed below its cap (the inertia
 #   number the stage reports, I = eps_dot sqrt(m/P), is at most 0.05/T0 sqrt(m/P));
-# - the stiffen deck killed (kill -9) after a checkpoint inside stiffen and restarted from it
+# - the stiffen deck (40 increments over 100 000 steps, a checkpoint every 20 000) killed
+#   (kill -9) after its first checkpoint inside stiffen and restarted from it
 #   ends bit for bit as the uninterrupted run (the frame holds the ramp's increment and start
 #   stiffness, the checkpoint the stiffnesses in force);
 # - `granpack analyze` of P0.h5 reports the [GRC] coordination the file gives;
@@ -24,16 +25,15 @@
 #   cluster.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 np=2
 m2=$scratch/m2
-t0=$(date +%s)
-mpiexec -n $np "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/2d/method2_small.toml" -o "$m2" -q \
-  < /dev/null > "$scratch/m2.txt" 2>&1
-rc=$?; check "method 2 run exits 0" '[ $rc -eq 0 ]' || { tail -30 "$scratch/m2.txt"; checks_stop method2_2d; }
-echo "method 2 deck: $(( $(date +%s) - t0 )) s"
+t0=$(now)
+check_exit "method 2 run" 0 "$scratch/m2.txt" \
+  granpack_on $np run "$GRANPACK_SOURCE_DIR/jobs/decks/2d/method2_small.toml" -o "$m2" -q || checks_stop method2_2d
+echo "method 2 deck: $(elapsed $t0) s"
 grep -E "aggregated|equilibrated|interactions" "$m2/log.txt"
 
 deck=$scratch/stiffen.toml
@@ -62,7 +62,7 @@ file = "$m2/final.h5"
 [[stage]]
 kind = "stiffen"
 normal_stiffness = 1.0e6
-steps = 400000
+steps = 100000   # 2500 per increment: the stiff stage then equilibrates in ~12 000 steps
 increments = 40
 pressure = 10.0
 cell_mass = 0.3
@@ -78,35 +78,22 @@ tolerance_moment = 1e-3
 tolerance_stress = 1e-3
 tolerance_kinetic = 1e-6
 TOML
-every=20000
-run() { local o=$1; shift; mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$o" -q \
-          --checkpoint-every-steps $every --checkpoint-every-seconds 0 "$@" < /dev/null; }
-inside() {
-  awk '/^stage /{ s = $2 } /inside the stage/ && s == 1 { c++ } END { print c + 0 }' "$out/log.txt" 2>/dev/null || echo 0
-}
+run_options=(--checkpoint-every-steps 20000 --checkpoint-every-seconds 0)
 whole=$scratch/whole
-t0=$(date +%s)
-run "$whole" > "$scratch/whole.txt" 2>&1
-rc=$?; check "stiffen run exits 0" '[ $rc -eq 0 ]' || tail -30 "$scratch/whole.txt"
-echo "stiffen deck: $(( $(date +%s) - t0 )) s"
+t0=$(now)
+check_exit "stiffen run" 0 "$scratch/whole.txt" run_deck "$whole"
+echo "stiffen deck: $(elapsed $t0) s"
 grep -E "increment 40|equilibrated" "$whole/log.txt"
 out=$scratch/chain
-mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$out" -q --checkpoint-every-steps $every \
-  --checkpoint-every-seconds 0 < /dev/null > "$scratch/chain.txt" 2>&1 &
-pid=$!
-for _ in $(seq 1 3000); do
-  [ "$(inside)" -gt 0 ] && break
-  kill -0 $pid 2>/dev/null || break
-  sleep 0.02
-done
+start_leg
+wait_until 3000 0.02 '[ "$(inside 1)" -gt 0 ]'
 # The kill-and-restart chain, each step needing the one before.
-killed_inside=$(inside)
+killed_inside=$(inside 1)
 check "a checkpoint inside stiffen" '[ "$killed_inside" -gt 0 ]' || tail "$scratch/chain.txt"
 if [ "$killed_inside" -gt 0 ]; then
   stop_run
-  echo "killed inside stiffen; checkpoint at stage $("$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p')"
-  run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1
-  rc=$?; check "restart from the checkpoint inside stiffen exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/chain.txt"
+  echo "killed inside stiffen; checkpoint at stage $(checkpoint_stage)"
+  check_exit "restart from the checkpoint inside stiffen" 0 "$scratch/restart.txt" run_deck "$out" --restart "$out/checkpoint.h5"
   resumed=$(grep -c "inside stage 1 'stiffen'" "$out/log.txt")
   check "the restart resumed inside stiffen" '[ "$resumed" -gt 0 ]' || grep "restart from" "$out/log.txt"
   check "the chain ends as the uninterrupted run (final.h5 bit for bit, report.json)" 'same_run "$whole" "$out" "$np"'
@@ -120,25 +107,21 @@ awk '/^\[\[stage\]\]/ { k++ } k < 3' "$GRANPACK_SOURCE_DIR/jobs/decks/2d/method2
       -e 's/^tolerance_kinetic = 1e-6/tolerance_kinetic = 5e-8/' \
       -e 's/^cluster_every = 5000/cluster_every = 5000\nquench_interval = 20000\nquench_delay = 40000/' > "$scratch/quench.toml"
 printf '[[stage]]\nkind = "write"\nfile = "aggregate.h5"\n' >> "$scratch/quench.toml"
-t0=$(date +%s)
-mpiexec -n $np "$GRANPACK_EXE" run "$scratch/quench.toml" -o "$q" -q < /dev/null > "$scratch/q.txt" 2>&1
-rc=$?; check "quench run exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/q.txt"
-echo "aggregation with quenches: $(( $(date +%s) - t0 )) s"
+t0=$(now)
+check_exit "quench run" 0 "$scratch/q.txt" granpack_on $np run "$scratch/quench.toml" -o "$q" -q
+echo "aggregation with quenches: $(elapsed $t0) s"
 
-mpiexec -n $np "$GRANPACK_EXE" analyze "$m2/P0.h5" --json "$scratch/an.json" > "$scratch/an.txt" 2>&1
-rc=$?; check "analyze P0.h5 exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/an.txt"
+check_exit "analyze P0.h5" 0 "$scratch/an.txt" granpack_on $np analyze "$m2/P0.h5" --json "$scratch/an.json"
 
 # The files, checked independently of the engine: one line per check (cli_checks.sh checks_from).
 /usr/bin/python3 - "$m2" "$whole" "$scratch/an.json" "$q" > "$scratch/py.txt" 2>&1 <<'PY'
-import json, os, sys
+import json, sys
 import numpy as np
-sys.path.insert(0, os.path.join(os.environ["GRANPACK_SOURCE_DIR"], "tests", "support"))
+from checks import check
 from packing_file import Packing
 m2, stiff, an_file, quench = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
 a, F0, D0, mu, phi_I, tol = 1e-3, 1.0, 1e-6, 0.5, 0.36, 1e-3
 m = 2500 * np.pi * a * a / 4
-def check(name, ok):
-    print(("ok: " if ok else "FAIL: ") + name)
 
 def check_file(path, K_N, P, label, tol=tol):
     p = Packing(path)

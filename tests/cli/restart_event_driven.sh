@@ -11,8 +11,8 @@
 #     the checkpoints nor their instants change the trajectory (docs/long-jobs.md).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 deck=$scratch/ed.toml
 cat > "$deck" <<'TOML'
@@ -43,51 +43,38 @@ phi = 0.60
 report_phi = [0.52]
 growth_rate = 3.0e-3
 TOML
-run() { local o=$1; shift; mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$o" -q "$@" < /dev/null; }
-inside() { local c; c=$(grep -c "inside the stage" "$out/log.txt" 2>/dev/null); echo "${c:-0}"; }
-
-# Starts a leg in the background (pid: mpiexec's) and waits for a checkpoint inside stage $1.
+# leg STAGE [ARGS...]: a leg with a checkpoint every 0.1 s of wall time, in the background,
+# until it has written a checkpoint inside stage STAGE.
 leg() {
   local stage=$1; shift
   local before; before=$(inside)
-  # mpiexec itself in the background (not a shell function): $pid is mpiexec's, the ranks
-  # are its children, and SIGUSR1 reaches mpiexec, which forwards it to them.
-  mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$out" -q --checkpoint-every-seconds 0.1 "$@" \
-    < /dev/null >> "$scratch/chain.txt" 2>&1 &
-  pid=$!
-  for _ in $(seq 1 600); do
-    if [ "$(inside)" -gt "${before:-0}" ] &&
-       [ "$(grep "^stage " "$out/log.txt" | tail -1 | cut -d' ' -f2)" = "$stage" ]; then return 0; fi
-    kill -0 $pid 2>/dev/null || return 1
-    sleep 0.05
-  done
-  return 1
+  start_leg --checkpoint-every-seconds 0.1 "$@"
+  wait_until 600 0.05 '[ "$(inside)" -gt "$before" ] &&
+    [ "$(grep "^stage " "$out/log.txt" | tail -1 | cut -d" " -f2)" = "$stage" ]'
 }
-info_stage() { "$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p'; }
 
 # chain NP: the uninterrupted run and the interrupted chain on NP ranks, compared. A failed
 # step ends the chain (the next ones need its files); the other rank count still runs.
 chain() {
   np=$1 whole=$scratch/whole$1 out=$scratch/chain$1
-  t0=$(date +%s.%N)
-  run "$whole" --checkpoint-every-seconds 0 > "$whole.txt" 2>&1
-  rc=$?; check "$np rank(s): uninterrupted run exits 0" '[ $rc -eq 0 ]' || { tail "$whole.txt"; return; }
-  wall=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.1f", b - a }')
+  t0=$(now)
+  check_exit "$np rank(s): uninterrupted run" 0 "$whole.txt" run_deck "$whole" --checkpoint-every-seconds 0 || return
+  wall=$(elapsed $t0)
 
   leg 1; rc=$?
   check "$np rank(s): a checkpoint inside ed_gas (uninterrupted run: $wall s)" '[ $rc -eq 0 ]' \
     || { tail "$scratch/chain.txt"; return; }
   stop_run   # kill -9
-  echo "killed inside ed_gas; checkpoint at stage $(info_stage)"
+  echo "killed inside ed_gas; checkpoint at stage $(checkpoint_stage)"
   leg 2 --restart "$out/checkpoint.h5"; rc=$?
   check "$np rank(s): a checkpoint inside ls_compress" '[ $rc -eq 0 ]' || { tail "$scratch/chain.txt"; return; }
   kill -USR1 $pid
   wait $pid; code=$?; pid=
   check "$np rank(s): SIGUSR1 inside ls_compress: exit $code (expected 75)" '[ $code -eq 75 ]' \
     || { tail "$scratch/chain.txt"; return; }
-  echo "stopped inside ls_compress (exit 75); checkpoint at stage $(info_stage)"
-  run "$out" --checkpoint-every-seconds 0.1 --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1
-  rc=$?; check "$np rank(s): last restart exits 0" '[ $rc -eq 0 ]' || { tail "$scratch/chain.txt"; return; }
+  echo "stopped inside ls_compress (exit 75); checkpoint at stage $(checkpoint_stage)"
+  check_exit "$np rank(s): last restart" 0 "$scratch/last.txt" \
+    run_deck "$out" --checkpoint-every-seconds 0.1 --restart "$out/checkpoint.h5" || return
   echo "uninterrupted run $wall s; the chain wrote $(inside) checkpoints inside a stage"
   in_melt=$(grep -c "inside stage 1 'melt'" "$out/log.txt") in_ls=$(grep -c "inside stage 2 'ls'" "$out/log.txt")
   check "$np rank(s): a restart resumed inside ed_gas" '[ "$in_melt" -gt 0 ]' || grep "restart from" "$out/log.txt"

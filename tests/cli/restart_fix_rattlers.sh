@@ -14,8 +14,8 @@
 #     that depends on the clock, which changes the trajectory's bits.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
-. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 deck=$scratch/fix.toml
 cat > "$deck" <<'TOML'
@@ -47,52 +47,35 @@ name = "fixed"
 kind = "fix_rattlers"
 max_steps = 6025
 TOML
-every=400
-run() { local o=$1; shift; mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$o" -q \
-          --checkpoint-every-steps $every --checkpoint-every-seconds 0 "$@" < /dev/null; }
-# Checkpoints written inside fix_rattlers (stage 2) so far, over every leg.
-inside() {
-  awk '/^stage /{ s = $2 } /inside the stage/ && s == 2 { c++ } END { print c + 0 }' "$out/log.txt" 2>/dev/null || echo 0
-}
-# Starts a leg in the background (pid: mpiexec's) and waits for a new checkpoint inside
-# fix_rattlers.
+run_options=(--checkpoint-every-steps 400 --checkpoint-every-seconds 0)
+# leg [ARGS...]: a leg in the background, until it has written a new checkpoint inside
+# fix_rattlers (stage 2).
 leg() {
-  local before; before=$(inside)
-  mpiexec -n $np "$GRANPACK_EXE" run "$deck" -o "$out" -q \
-    --checkpoint-every-steps $every --checkpoint-every-seconds 0 "$@" \
-    < /dev/null >> "$scratch/chain.txt" 2>&1 &
-  pid=$!
-  for _ in $(seq 1 1200); do
-    [ "$(inside)" -gt "$before" ] && return 0
-    kill -0 $pid 2>/dev/null || return 1
-    sleep 0.05
-  done
-  return 1
+  local before; before=$(inside 2)
+  start_leg "$@"
+  wait_until 1200 0.05 '[ "$(inside 2)" -gt "$before" ]'
 }
-info_stage() { "$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p'; }
 
 # chain NP: the uninterrupted run and the interrupted chain on NP ranks, compared. A failed
 # step ends the chain (the next ones need its files); the other rank count still runs.
 chain() {
   np=$1 whole=$scratch/whole$1 out=$scratch/chain$1
-  t0=$(date +%s.%N)
-  run "$whole" > "$whole.txt" 2>&1
-  rc=$?; check "$np rank(s): uninterrupted run exits 0" '[ $rc -eq 0 ]' || { tail "$whole.txt"; return; }
-  wall=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.1f", b - a }')
-  out=$whole; whole_inside=$(inside); out=$scratch/chain$1
+  t0=$(now)
+  check_exit "$np rank(s): uninterrupted run" 0 "$whole.txt" run_deck "$whole" || return
+  wall=$(elapsed $t0)
+  out=$whole; whole_inside=$(inside 2); out=$scratch/chain$1
 
   leg; rc=$?
   check "$np rank(s): a checkpoint inside fix_rattlers (uninterrupted run: $wall s)" '[ $rc -eq 0 ]' \
     || { tail "$scratch/chain.txt"; return; }
   stop_run   # kill -9
-  echo "killed inside fix_rattlers; checkpoint at stage $(info_stage)"
+  echo "killed inside fix_rattlers; checkpoint at stage $(checkpoint_stage)"
   leg --restart "$out/checkpoint.h5"; rc=$?
   check "$np rank(s): a second checkpoint inside fix_rattlers" '[ $rc -eq 0 ]' || { tail "$scratch/chain.txt"; return; }
   stop_run
-  echo "killed inside fix_rattlers again; checkpoint at stage $(info_stage)"
-  run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1
-  rc=$?; check "$np rank(s): last restart exits 0" '[ $rc -eq 0 ]' || { tail "$scratch/chain.txt"; return; }
-  echo "uninterrupted run $wall s with $whole_inside checkpoints inside fix_rattlers; the chain wrote $(inside)"
+  echo "killed inside fix_rattlers again; checkpoint at stage $(checkpoint_stage)"
+  check_exit "$np rank(s): last restart" 0 "$scratch/last.txt" run_deck "$out" --restart "$out/checkpoint.h5" || return
+  echo "uninterrupted run $wall s with $whole_inside checkpoints inside fix_rattlers; the chain wrote $(inside 2)"
   resumed=$(grep -c "inside stage 2 'fixed'" "$out/log.txt")
   check "$np rank(s): both restarts resumed inside fix_rattlers ($resumed)" '[ "$resumed" -eq 2 ]' \
     || grep "restart from" "$out/log.txt"

@@ -12,6 +12,7 @@
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 cli_scratch 'pkill -9 -f -- "$scratch/" 2>/dev/null'   # on exit, also kill -9 this test's ranks
 RANDOM=2026
 deck=$scratch/restart.toml
@@ -27,26 +28,27 @@ count = 3
 inertia_max = 1.0e-2
 max_steps = 3000
 TOML
-# run OUT [args]: "-o OUT " comes first on the command line, so that pkill can find the run.
-run() { local o=$1; shift; mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$o" --checkpoint-every-steps 150 --checkpoint-every-seconds 0 -q "$@"; }
+# run_deck and start_leg (tests/support/restart_chain.sh) put "-o OUT " on the command line,
+# by which pkill finds the run's mpiexec and ranks.
+np=2
+run_options=(--checkpoint-every-steps 150 --checkpoint-every-seconds 0)
 
-t0=$(date +%s.%N)
-run "$scratch/whole" > "$scratch/whole.txt" 2>&1
-rc=$?; check "the uninterrupted run exits 0" '[ $rc -eq 0 ]' || checks_stop "restart kill" "$scratch/whole.txt"
+t0=$(now)
+check_exit "the uninterrupted run" 0 "$scratch/whole.txt" run_deck "$scratch/whole" || checks_stop "restart kill"
 # Kill delays scale with the machine's speed: 10 to 25 % of the uninterrupted wall time.
-wall=$(awk -v a=$t0 -v b=$(date +%s.%N) 'BEGIN { printf "%.2f", b - a }')
+wall=$(elapsed $t0)
 
 out=$scratch/chain
 kills=0 during_write=0 restarts=0 fresh=0
-start_leg() {
+# leg: a leg in the background, from the newest checkpoint if there is one.
+leg() {
   if [ -f "$out/checkpoint.h5" ]; then
-    run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1 &
+    start_leg --restart "$out/checkpoint.h5"
     restarts=$((restarts + 1))
   else
-    run "$out" >> "$scratch/chain.txt" 2>&1 &
+    start_leg
     fresh=$((fresh + 1))
   fi
-  pid=$!
 }
 # After a kill: the newest checkpoint must be a complete, readable file.
 after_kill() {
@@ -61,7 +63,7 @@ after_kill() {
 # whose delays add up to 1.4, a loaded machine let the chain finish in phase 1 and the test
 # failed its own "did not test" check).
 for attempt in $(seq 1 5); do
-  start_leg
+  leg
   sleep "$(awk -v r=$RANDOM -v w=$wall 'BEGIN { printf "%.2f", w * (0.10 + 0.15 * r / 32767) }')"
   if ! kill -0 $pid 2>/dev/null; then wait $pid; break; fi   # finished before the kill
   pkill -9 -f -- "-o $out " 2>/dev/null
@@ -71,7 +73,7 @@ done
 # Phase 2: kills aimed at the write itself: as soon as the temporary file appears.
 for attempt in $(seq 1 4); do
   [ -f "$out/final.h5" ] && break
-  start_leg
+  leg
   for _ in $(seq 1 500); do
     if [ -f "$out/checkpoint.h5.tmp" ]; then
       pkill -9 -f -- "-o $out " 2>/dev/null; during_write=$((during_write + 1)); break
@@ -84,15 +86,16 @@ for attempt in $(seq 1 4); do
 done
 if [ ! -f "$out/final.h5" ]; then
   restarts=$((restarts + 1))
-  run "$out" --restart "$out/checkpoint.h5" >> "$scratch/chain.txt" 2>&1
-  rc=$?; check "the last restart exits 0" '[ $rc -eq 0 ]' || checks_stop "restart kill" "$scratch/chain.txt"
+  check_exit "the last restart" 0 "$scratch/last.txt" run_deck "$out" --restart "$out/checkpoint.h5" \
+    || checks_stop "restart kill"
 fi
 echo "uninterrupted run: $wall s; kill -9: $kills kills ($during_write while a checkpoint was being written), $restarts restarts, $fresh fresh starts"
 check "the killed-and-restarted chain ends as the uninterrupted run (final.h5 bit for bit)" \
-  '/usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$scratch/whole/final.h5" "$out/final.h5"' \
+  'same_state "$scratch/whole/final.h5" "$out/final.h5"' \
   || tail -30 "$scratch/chain.txt"
 # The restarted run's report has every stage once, in order.
-/usr/bin/python3 - "$scratch/whole/report.json" "$out/report.json" <<'PY'
+check_python "report.json of the restarted chain: every stage once, in order, the same steps and phi" \
+  "$scratch/report_py.txt" "$scratch/whole/report.json" "$out/report.json" <<'PY'
 import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:3])
 na, nb = [s["name"] for s in a["stages"]], [s["name"] for s in b["stages"]]
@@ -100,7 +103,6 @@ assert na == nb, (na, nb)
 for x, y in zip(a["stages"], b["stages"]):
     assert x["steps"] == y["steps"] and x["phi"] == y["phi"], (x["name"], x["steps"], y["steps"])
 PY
-rc=$?; check "report.json of the restarted chain: every stage once, in order, the same steps and phi" '[ $rc -eq 0 ]'
 check "the test tested: $kills kills (at least 6), $during_write during a write (at least 2)" \
   '! { [ $kills -lt 6 ] || [ $during_write -lt 2 ]; }'
 checks_done "restart kill"

@@ -26,11 +26,10 @@ phi = 0.60
 kind = "write"
 file = "lattice.h5"
 TOML
-mpiexec -n 2 "$GRANPACK_EXE" run "$scratch/lattice.toml" -o "$out" > "$scratch/run.txt" 2>&1
-rc=$?; check "run exits 0" "[ $rc -eq 0 ]"
+check_exit "run" 0 "$scratch/run.txt" granpack_on 2 run "$scratch/lattice.toml" -o "$out"
 for f in report.json final.h5 final.xdmf lattice.h5 lattice.xdmf log.txt; do check "$f written" "[ -s '$out/$f' ]"; done
 check "no temporary files left" "[ -z \"\$(ls '$out' | grep -i tmp)\" ]"
-/usr/bin/python3 - "$out/report.json" <<'PY' > "$scratch/py.txt" 2>&1
+check_python "report.json has every key and phi = 0.60" "$scratch/py.txt" "$out/report.json" <<'PY'
 import json, math, sys
 r = json.load(open(sys.argv[1]))
 for k in ["version", "dimension", "n", "ranks", "stages"]:
@@ -44,17 +43,15 @@ for s in r["stages"]:
 # the lattice stage must produce exactly the requested solid fraction
 assert abs(r["stages"][0]["phi"] - 0.60) < 1e-12, r["stages"][0]["phi"]
 PY
-rc=$?; check "report.json has every key and phi = 0.60 ($(cat "$scratch/py.txt"))" "[ $rc -eq 0 ]"
 
-info=$("$GRANPACK_EXE" info "$out/final.h5" 2>&1)
-rc=$?; check "info on 1 rank exits 0" "[ $rc -eq 0 ]"
-check "info names dimension and n: $info" "grep -q 'dimension' <<<\"\$info\" && grep -q '256' <<<\"\$info\""
+check_exit "info on 1 rank" 0 "$scratch/info.txt" "$GRANPACK_EXE" info "$out/final.h5"
+check "info names dimension and n: $(cat "$scratch/info.txt")" \
+  "grep -q 'dimension' '$scratch/info.txt' && grep -q '256' '$scratch/info.txt'"
 
-"$GRANPACK_EXE" stiffness "$out/final.h5" > "$scratch/a.txt" 2>&1
-rc=$?; check "stiffness of a packing without contacts: exit 2" "[ $rc -eq 2 ] && grep -q 'no backbone' '$scratch/a.txt'"
-"$GRANPACK_EXE" info "$scratch/does_not_exist.h5" > "$scratch/i.txt" 2>&1
-rc=$?; check "info on a missing file: exit 2" "[ $rc -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/i.txt'"
+check_refused "stiffness of a packing without contacts" 2 "no backbone" "$scratch/a.txt" \
+  "$GRANPACK_EXE" stiffness "$out/final.h5"
+check_refused "info on a missing file" 2 "does_not_exist.h5" "$scratch/i.txt" \
+  "$GRANPACK_EXE" info "$scratch/does_not_exist.h5"
 
-"$GRANPACK_EXE" --version | grep -q "granpack"
-rc=$?; check "--version" "[ $rc -eq 0 ]"
+check_refused "--version" 0 "granpack" "$scratch/version.txt" "$GRANPACK_EXE" --version
 checks_done "run and info"

@@ -18,27 +18,24 @@ set -u
 cli_scratch
 ran=0
 for deck in AC_small B_small D_small; do
-  mpiexec -n 2 "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/$deck.toml" \
-    -o "$scratch/$deck" --quiet > "$scratch/$deck.txt" 2>&1
-  rc=$?; check "$deck runs (exit $rc)" '[ $rc -eq 0 ]' && ran=$((ran + 1)) || tail -20 "$scratch/$deck.txt"
+  check_exit "$deck run" 0 "$scratch/$deck.txt" \
+    granpack_on 2 run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/$deck.toml" -o "$scratch/$deck" --quiet && ran=$((ran + 1))
 done
 [ $ran -eq 3 ] || checks_stop states_small
 # granpack analyze of the C packing on 1 and 2 ranks (compared below).
 for np in 1 2; do
-  mpiexec -n $np "$GRANPACK_EXE" analyze "$scratch/AC_small/final.h5" --json "$scratch/analysis_np$np.json" \
-    --h5 "$scratch/analysis_np$np.h5" > "$scratch/analyze_np$np.txt" 2>&1
-  rc=$?; check "analyze on $np rank(s) exits 0" '[ $rc -eq 0 ]' || tail -20 "$scratch/analyze_np$np.txt"
+  check_exit "analyze on $np rank(s)" 0 "$scratch/analyze_np$np.txt" granpack_on $np analyze \
+    "$scratch/AC_small/final.h5" --json "$scratch/analysis_np$np.json" --h5 "$scratch/analysis_np$np.h5"
 done
 # The metrics: one line per check (cli_checks.sh checks_from), named by what a failure means.
 /usr/bin/python3 - "$scratch" > "$scratch/py.txt" 2>&1 <<'PY'
 import json, sys
+from checks import check
 d = sys.argv[1]
 def stages(deck):
     return {s["name"]: s for s in json.load(open(f"{d}/{deck}/report.json"))["stages"]}
 ac, b, dd = stages("AC_small"), stages("B_small"), stages("D_small")
 A, C, B, D, Q, F = ac["A"], ac["C"], b["B"], dd["D"], dd["qs"], dd["fixed"]
-def check(what, ok):
-    print(("ok: " if ok else "FAIL: ") + what)
 def band(name, s, key, lo, hi):
     v = s[key]
     check(f"{name} {key} = {v} outside [{lo}, {hi}]", v is not None and lo <= v <= hi)

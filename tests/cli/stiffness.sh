@@ -8,12 +8,10 @@ set -u
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
 cli_scratch
 
-mpiexec -n 2 "$GRANPACK_EXE" run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/fcc_hertz.toml" -o "$scratch/fcc" -q > "$scratch/run.txt" 2>&1
-rc=$?; check "fcc run exits 0" "[ $rc -eq 0 ]"
-mpiexec -n 2 "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --json "$scratch/s.json" > "$scratch/s.txt" 2>&1
-rc=$?; check "stiffness exits 0 ($(tail -3 "$scratch/s.txt"))" "[ $rc -eq 0 ]"
+check_exit "fcc run" 0 "$scratch/run.txt" granpack_on 2 run "$GRANPACK_SOURCE_DIR/jobs/decks/ci/fcc_hertz.toml" -o "$scratch/fcc" -q
+check_exit "stiffness" 0 "$scratch/s.txt" granpack_on 2 stiffness "$scratch/fcc/final.h5" --json "$scratch/s.json"
 check "table printed once" "[ \$(grep -c 'mechanisms k' '$scratch/s.txt') -eq 1 ]"
-/usr/bin/python3 - "$scratch/s.json" <<'PY' > "$scratch/py.txt" 2>&1
+check_python "JSON keys and FCC values" "$scratch/py.txt" "$scratch/s.json" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1]))
 need = ["mechanisms", "trivial_mechanisms", "divalent_mechanisms", "H", "H_over_Nf", "isostatic",
@@ -28,21 +26,16 @@ assert j["positive_definite"] is True and j["isostatic"] is False
 assert j["virtual_work_residual"] < 1e-3, j["virtual_work_residual"]
 assert j["bulk_modulus"] > 0 and j["shear_modulus_diag"] > 0
 PY
-rc=$?; check "JSON keys and FCC values ($(cat "$scratch/py.txt"))" "[ $rc -eq 0 ]"
 
-"$GRANPACK_EXE" stiffness "$scratch/does_not_exist.h5" > "$scratch/m.txt" 2>&1
-rc=$?; check "missing file: exit 2" "[ $rc -eq 2 ] && grep -q 'does_not_exist.h5' '$scratch/m.txt'"
-"$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --null-pivot 0 > "$scratch/b.txt" 2>&1
-rc=$?; check "bad --null-pivot: exit 2" "[ $rc -eq 2 ]"
+check_refused "missing file" 2 "does_not_exist.h5" "$scratch/m.txt" "$GRANPACK_EXE" stiffness "$scratch/does_not_exist.h5"
+check_exit "bad --null-pivot" 2 "$scratch/b.txt" "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --null-pivot 0
 
 # 3D with cohesion: refused (exit 3, not implemented), naming the file; nothing written.
 sed -e 's/^friction = .*/friction = 0.3\ncohesion_force = 1.0e-3\ncohesion_range = 1.0e-6/' \
   "$GRANPACK_SOURCE_DIR/jobs/decks/ci/fcc_hertz.toml" > "$scratch/fcc_cohesive.toml"
-mpiexec -n 1 "$GRANPACK_EXE" run "$scratch/fcc_cohesive.toml" -o "$scratch/fcc_c" -q > "$scratch/runc.txt" 2>&1
-rc=$?
-check "cohesive fcc run exits 0 ($(tail -2 "$scratch/runc.txt"))" "[ $rc -eq 0 ]"
-"$GRANPACK_EXE" stiffness "$scratch/fcc_c/final.h5" --json "$scratch/c.json" > "$scratch/c.txt" 2>&1
-rc=$?
-check "3D cohesive: exit 3 ($(tail -1 "$scratch/c.txt"))" "[ $rc -eq 3 ] && grep -q 'fcc_c/final.h5: the stiffness of 3D packings with cohesion' '$scratch/c.txt' && [ ! -e '$scratch/c.json' ]"
+check_exit "cohesive fcc run" 0 "$scratch/runc.txt" granpack_on 1 run "$scratch/fcc_cohesive.toml" -o "$scratch/fcc_c" -q
+check_refused "3D cohesive" 3 "fcc_c/final.h5: the stiffness of 3D packings with cohesion" "$scratch/c.txt" \
+  "$GRANPACK_EXE" stiffness "$scratch/fcc_c/final.h5" --json "$scratch/c.json"
+check "3D cohesive: no JSON written" "[ ! -e '$scratch/c.json' ]"
 
 checks_done stiffness.sh

@@ -227,7 +227,7 @@ TEST(Deck, EveryShippedDeckIsValid) {
 // (line by line, as grep -E matches it; the patterns use only syntax that grep -E and
 // std::regex's ECMAScript grammar read alike): the file and line, the key with its table path,
 // the value and what is allowed. Every rank must throw it (validation stops all ranks
-// together). tests/cli/bad_decks.sh runs unknown_key and syntax_error end to end.
+// together). tests/cli/bad_decks.sh runs unknown_key end to end.
 namespace {
 const std::vector<std::string> kBadDecks = {
     "ed_gas_missing",    "expand_shrinks", "lattice_count",
@@ -277,6 +277,19 @@ TEST_P(BadDeck, RefusedNamingTheFileTheKeyAndWhatIsAllowed) {
 
 INSTANTIATE_TEST_SUITE_P(Decks, BadDeck, testing::ValuesIn(kBadDecks),
                          [](const testing::TestParamInfo<std::string>& p) { return p.param; });
+
+// A deck file that does not exist is bad input too, refused on every rank before any work
+// (tests/cli/bad_decks.sh ran it end to end before).
+TEST(BadDeckFile, MissingFileIsRefusedOnEveryRank) {
+  const auto missing = bad_deck_dir() / "nope.toml";
+  try {
+    load_deck_collectively(MPI_COMM_WORLD, missing, std::nullopt);
+    ADD_FAILURE() << missing << " was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.exit_code(), kExitBadInput);
+    EXPECT_TRUE(some_line_matches(e.what(), "nope.toml: cannot open the deck file")) << e.what();
+  }
+}
 
 // A deck added to tests/decks/bad/ is checked too: the list above is the directory.
 TEST(BadDecks, TheListIsTheDirectory) {

@@ -1,6 +1,7 @@
-// Ensembles: the reseeded deck text (io/deck_seed.h) and the statistics of an ensemble's
-// samples (app/ensemble_summary.h). The end-to-end run (split ranks, identical files, restart)
-// is tests/cli/ensemble.sh.
+// Ensembles: the reseeded deck text (io/deck_seed.h), the statistics of an ensemble's samples
+// (app/ensemble_summary.h), and the refusals of run_ensemble and summarize_ensemble on every
+// rank. The end-to-end run (split ranks, identical files, restart, the options the driver
+// refuses) is tests/cli/ensemble.sh.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,9 @@
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/deck_seed.h"
+#include "granpack/prep/ensemble_run.h"
+#include "mpi_world.h"
+#include "test_paths.h"
 
 using namespace granpack;
 
@@ -129,6 +133,44 @@ TEST(EnsembleSummary, MeanSampleSdAndKOfEveryNumber) {
   EXPECT_EQ(a["/only_here"]["K"], 1);
   EXPECT_TRUE(a["/only_here"]["sd"].is_null());
   EXPECT_EQ(a["/only_here"]["values"], nlohmann::json({nullptr, nullptr, 1.5}));
+}
+
+// `granpack run DECK --samples 2 --ranks-per-sample 3`: refused on every rank before any work
+// (exit code 2), naming the job's rank count; nothing written.
+TEST(EnsembleRefusals, RanksPerSampleMustDivideTheRanks) {
+  const int size = test::world_size();
+  const auto dir = test::scratch_dir("ensemble_refusals_np" + std::to_string(size));
+  if (test::world_rank() == 0) std::filesystem::remove_all(dir / "bad2");  // from an earlier run
+  MPI_Barrier(MPI_COMM_WORLD);
+  EnsembleOptions o;
+  o.run.deck = dir / "never_read.toml";
+  o.run.output_dir = dir / "bad2";
+  o.samples = 2;
+  o.ranks_per_sample = 3;
+  try {
+    run_ensemble(MPI_COMM_WORLD, o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.exit_code(), kExitBadInput);
+    EXPECT_NE(std::string(e.what()).find("--ranks-per-sample 3: must divide the " + std::to_string(size) + " MPI ranks"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(o.run.output_dir));
+}
+
+// `granpack ensemble DIR` of a directory without samples: refused on every rank, saying so.
+TEST(EnsembleRefusals, DirectoryWithoutSamples) {
+  const auto dir = test::scratch_dir("ensemble_empty_np" + std::to_string(test::world_size()));
+  EnsembleSummaryOptions o;
+  o.directory = dir;
+  try {
+    summarize_ensemble(MPI_COMM_WORLD, o);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {  // gathered on every rank by collectively(): an Error with code 2
+    EXPECT_EQ(e.exit_code(), kExitBadInput);
+    EXPECT_NE(std::string(e.what()).find(dir.string() + ": holds no sample_"), std::string::npos) << e.what();
+  }
 }
 
 TEST(DeckSeed, ReadStageFileTakesTheSampleSeed) {

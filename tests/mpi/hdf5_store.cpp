@@ -443,6 +443,33 @@ TYPED_TEST(Hdf5Store, FailedWriteLeavesThePreviousFileUntouched) {
   expect_matches(MPI_COMM_WORLD, b, back);
 }
 
+// Every committed granpack file (docs/data/*.h5, jobs/runs/*/checkpoint.h5), written by this
+// and earlier versions, still reads as `granpack info` reads it: describe_file on all ranks,
+// a summary with a "particles:" line (tests/cli/hdf5_upstream.sh ran `info` on each before).
+TEST(CommittedFiles, ReadAsInfoReadsThem) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(test::source_dir() / "docs/data"))
+    if (e.is_regular_file() && e.path().extension() == ".h5") files.push_back(e.path());
+  const fs::path runs = test::source_dir() / "jobs/runs";
+  if (fs::is_directory(runs))
+    for (const auto& e : fs::directory_iterator(runs))
+      if (fs::is_regular_file(e.path() / "checkpoint.h5")) files.push_back(e.path() / "checkpoint.h5");
+  std::sort(files.begin(), files.end());  // the same order on every rank
+  EXPECT_GE(files.size(), 1u);
+  for (const auto& f : files) {
+    std::string text;
+    try {
+      text = describe_file(MPI_COMM_WORLD, f);
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << f << ": " << e.what();
+      continue;
+    }
+    EXPECT_TRUE(text.rfind("particles:", 0) == 0 || text.find("\nparticles:") != std::string::npos)
+        << f << ":\n" << text;
+  }
+  if (world_rank() == 0) std::printf("[ committed ] %zu files read\n", files.size());
+}
+
 TYPED_TEST(Hdf5Store, DescribeAndXdmfSidecar) {
   constexpr int dim = TypeParam::value;
   const auto dir = scratch("describe" + std::to_string(dim));

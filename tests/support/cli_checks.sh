@@ -10,15 +10,38 @@
 #   FILE, "ok: NAME" (a pass) or "FAIL: NAME" (printed, a failure), counted as check does;
 #   other lines (numbers for the log, a traceback) are printed. RC is the block's exit status:
 #   one more check, "LABEL ran to the end", fails when it is not 0 (the block stopped early).
+#   The block writes its lines with check() of tests/support/checks.py (`from checks import
+#   check`: this file puts tests/support on PYTHONPATH).
 # checks_stop LABEL [LOG]: after a failed check that the following ones cannot do without (a
 #   run whose files they read): prints the end of LOG, the tally marked "(stopped early)", and
 #   ends the script with exit code 1.
 # checks_done LABEL [NOTE]: prints "LABEL: P passed, F failed [NOTE]" and returns non-zero if
 #   any check failed; the script ends with it, so it is the test's exit status.
+#
+# Running things and checking how they end:
+# granpack_on NP ARGS...: `granpack ARGS` on NP MPI ranks (mpiexec; stdin from /dev/null).
+# check_exit NAME CODE LOG CMD...: runs CMD (stdin from /dev/null), its output to LOG, its exit
+#   status in $rc; one check "NAME: exit $rc (expected CODE)" (CODE '!0': any non-zero status),
+#   the end of LOG printed on a failure. Returns non-zero on a failure (`|| checks_stop ...`).
+# check_refused NAME CODE PATTERN LOG CMD...: check_exit, and one more check that LOG matches
+#   PATTERN (grep -E) and holds no Python traceback, LOG printed on a failure.
+# check_python NAME LOG [ARGS...]: runs the Python block on stdin (a here-document) with ARGS,
+#   its output to LOG; one check NAME that it exits 0 (its asserts held), LOG printed otherwise.
+# same_state A.h5 B.h5, same_report A.json B.json: tests/support/same_state.py, same_report.py
+#   (exit 0: the same state bit for bit; the same stage values, wall times aside).
+# is_png FILE: FILE is a non-empty PNG. big_png FILE MIN_BYTES: a PNG of at least 300 x 300
+#   pixels and MIN_BYTES.
+# now, elapsed T0: a time stamp, and the seconds since the stamp T0 (two decimals).
+# wait_until TRIES INTERVAL CONDITION: evaluates CONDITION up to TRIES times, INTERVAL seconds
+#   apart; returns 0 as soon as it holds, 1 when it never did or when the run whose pid is
+#   $pid (if set) has ended first.
 cli_scratch() {
   scratch=$(mktemp -d)
   trap "${1:+$1; }"'rm -rf "$scratch"' EXIT
 }
+# The Python blocks import tests/support/*.py; no bytecode is written into the source tree.
+export PYTHONPATH="$GRANPACK_SOURCE_DIR/tests/support${PYTHONPATH:+:$PYTHONPATH}"
+export PYTHONDONTWRITEBYTECODE=1
 fail=0; pass=0
 check() {
   if eval "$2"; then pass=$((pass+1)); else echo "FAIL: $1"; fail=$((fail+1)); return 1; fi
@@ -42,4 +65,51 @@ checks_stop() {
 checks_done() {
   echo "$1: $pass passed, $fail failed${2:+ $2}"
   [ "$fail" -eq 0 ]
+}
+
+granpack_on() { local np=$1; shift; mpiexec -n "$np" "$GRANPACK_EXE" "$@" < /dev/null; }
+check_exit() {
+  local name=$1 code=$2 log=$3; shift 3
+  "$@" < /dev/null > "$log" 2>&1
+  rc=$?
+  if [ "$code" = '!0' ]; then
+    check "$name: exit $rc (expected non-zero)" "[ $rc -ne 0 ]" || { tail -20 "$log"; return 1; }
+  else
+    check "$name: exit $rc (expected $code)" "[ $rc -eq $code ]" || { tail -20 "$log"; return 1; }
+  fi
+}
+check_refused() {
+  local name=$1 code=$2 pattern=$3 log=$4; shift 4
+  check_exit "$name" "$code" "$log" "$@"
+  local status=$?
+  check "$name: the message matches /$pattern/" \
+    'grep -Eq -- "$pattern" "$log" && ! grep -q Traceback "$log"' || { head -c 2000 "$log"; echo; return 1; }
+  return $status
+}
+check_python() {
+  local name=$1 log=$2; shift 2
+  /usr/bin/python3 - "$@" > "$log" 2>&1
+  local status=$?
+  check "$name" "[ $status -eq 0 ]" || { cat "$log"; return 1; }
+}
+same_state() { /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$1" "$2"; }
+same_report() { /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_report.py" "$1" "$2"; }
+is_png() { [ -s "$1" ] && [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
+big_png() {
+  local wh
+  wh=$(/usr/bin/python3 -c 'import struct, sys
+b = open(sys.argv[1], "rb").read(24)
+if b[:8] == b"\x89PNG\r\n\x1a\n": print("%dx%d" % struct.unpack(">II", b[16:24]))' "$1" 2>/dev/null)
+  [ -n "$wh" ] && [ "${wh%x*}" -ge 300 ] && [ "${wh#*x}" -ge 300 ] && [ "$(stat -c %s "$1")" -ge "$2" ]
+}
+now() { date +%s.%N; }
+elapsed() { awk -v a="$1" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f", b - a }'; }
+wait_until() {
+  local tries=$1 interval=$2 condition=$3 _
+  for _ in $(seq 1 "$tries"); do
+    eval "$condition" && return 0
+    [ -n "${pid:-}" ] && ! kill -0 "$pid" 2>/dev/null && return 1
+    sleep "$interval"
+  done
+  return 1
 }

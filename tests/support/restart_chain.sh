@@ -1,6 +1,7 @@
-# Shared by the bit-for-bit restart tests of tests/cli (sourced, not run): a scratch directory
-# and the killing of a run in progress, the comparison of a restarted chain with its
-# uninterrupted run, and the loop over 1 and 2 ranks.
+# Shared by the bit-for-bit restart tests of tests/cli (sourced, not run, after
+# tests/support/cli_checks.sh): a scratch directory and the killing of a run in progress, the
+# runs of a deck and of the legs of an interrupted chain, the comparison of a restarted chain
+# with its uninterrupted run, and the loop over 1 and 2 ranks.
 
 # restart_scratch: makes $scratch (removed on exit), and stop_run, which kills the run whose
 # mpiexec pid is $pid (with its ranks, kill -9) and waits for it; the EXIT trap calls both.
@@ -11,11 +12,35 @@ restart_scratch() {
 }
 stop_run() { [ -n "$pid" ] && kill -9 $(pgrep -P "$pid") "$pid" 2>/dev/null; wait "$pid" 2>/dev/null; pid=; }
 
+# run_deck OUT [ARGS...]: `granpack run "$deck" -o OUT -q "${run_options[@]}" ARGS` on $np ranks
+# (stdin from /dev/null). start_leg [ARGS...]: the same into $out in the background, its output
+# appended to $scratch/chain.txt; $pid is mpiexec's own (not a subshell's: the ranks are its
+# children, and SIGUSR1 sent to it reaches them).
+run_options=()
+run_deck() {
+  local o=$1; shift
+  mpiexec -n "$np" "$GRANPACK_EXE" run "$deck" -o "$o" -q "${run_options[@]}" "$@" < /dev/null
+}
+start_leg() {
+  mpiexec -n "$np" "$GRANPACK_EXE" run "$deck" -o "$out" -q "${run_options[@]}" "$@" \
+    < /dev/null >> "$scratch/chain.txt" 2>&1 &
+  pid=$!
+}
+# inside [STAGE]: the checkpoints written inside a stage (inside stage index STAGE, if given)
+# that $out/log.txt records so far, over every leg. checkpoint_stage: the stage that
+# $out/checkpoint.h5 holds, as `granpack info` says it.
+inside() {
+  [ -f "$out/log.txt" ] || { echo 0; return; }
+  awk -v want="${1:-}" '/^stage /{ s = $2 } /inside the stage/ && (want == "" || s == want) { c++ }
+    END { print c + 0 }' "$out/log.txt"
+}
+checkpoint_stage() { "$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p'; }
+
 # same_run WHOLE OUT NP: OUT/final.h5 equals WHOLE/final.h5 bit for bit and the report.json
 # files agree.
 same_run() {
-  /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_state.py" "$1/final.h5" "$2/final.h5" || return 1
-  if ! /usr/bin/python3 "$GRANPACK_SOURCE_DIR/tests/support/same_report.py" "$1/report.json" "$2/report.json"
+  same_state "$1/final.h5" "$2/final.h5" || return 1
+  if ! same_report "$1/report.json" "$2/report.json"
   then echo "FAIL: report.json of the chain differs"; return 1; fi
   echo "$3 rank(s): identical"
 }
