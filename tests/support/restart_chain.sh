@@ -19,7 +19,7 @@ stop_run() { [ -n "$pid" ] && kill -9 $(pgrep -P "$pid") "$pid" 2>/dev/null; wai
 run_options=()
 run_deck() {
   local o=$1; shift
-  mpiexec -n "$np" "$GRANPACK_EXE" run "$deck" -o "$o" -q "${run_options[@]}" "$@" < /dev/null
+  granpack_on "$np" run "$deck" -o "$o" -q "${run_options[@]}" "$@"
 }
 start_leg() {
   mpiexec -n "$np" "$GRANPACK_EXE" run "$deck" -o "$out" -q "${run_options[@]}" "$@" \
