@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "granpack/contact/derived_constants.h"
 #include "granpack/core/error.h"
 
 namespace granpack {
@@ -154,7 +155,7 @@ ForceStatistics finish_force_statistics(const ForceMomentSums& pass1, const Forc
   r.fraction_below = ratio_or_nan(h[static_cast<std::size_t>(nb + 1)], nc);
 
   // Strong / weak split ([AR] table VI); forces normalised by P a^{dim-1}.
-  const double force_scale = s.pressure * std::pow(s.diameter, dim - 1);
+  const double force_scale = pressure_force(dim, s.diameter, s.pressure);
   auto split = [&](ForcePopulation p) {
     StrongWeakSplit w;
     const auto q = [&](int i) { return pass2.population(p, i); };
@@ -171,7 +172,7 @@ ForceStatistics finish_force_statistics(const ForceMomentSums& pass1, const Forc
 
   // eq. (22) and its 2D analogue (branch vectors of length a, docs/analysis-statistics.md).
   r.pressure_eq22 =
-      r.coordination * s.solid_fraction * mean / (std::numbers::pi * std::pow(s.diameter, dim - 1));
+      r.coordination * s.solid_fraction * mean / (std::numbers::pi * grain_section(dim, s.diameter));
   r.eq22_ratio = r.pressure_eq22 / s.pressure;
 
   // eq. (26): sum N h / Omega = P DeltaPhi / Phi.
@@ -181,7 +182,7 @@ ForceStatistics finish_force_statistics(const ForceMomentSums& pass1, const Forc
   // eq. (21), (28).
   if (s.e_tilde > 0 && s.pressure > 0) {
     const double stiffness = dim == 3 ? s.e_tilde : s.e_tilde * s.diameter;
-    r.kappa = std::pow(stiffness / s.pressure, 2.0 / 3.0);
+    r.kappa = hertz_stiffness_number(stiffness, s.pressure);
     r.delta_phi_eq28 = delta_phi_eq28<dim>(s.solid_fraction, r.coordination, r.z_5_3, r.kappa);
   } else {
     r.kappa = kNaN;

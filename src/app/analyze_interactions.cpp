@@ -12,6 +12,7 @@
 #include "granpack/app/analysis_sections.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/contact/derived_constants.h"
 
 namespace granpack {
 
@@ -66,9 +67,8 @@ template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v
   const auto& p = v.particles();
   const double n = double(v.n);
   const double f0 = v.cohesion_force;
-  const double a_pow = dim == 3 ? v.diameter * v.diameter : v.diameter;
-  // [GRC] II D: forces are judged against F1 = max(F0, P a^(D-1)); "vanishing" below 1e-4 F1.
-  const double f1 = std::max(f0, std::abs(v.pressure) * a_pow);
+  // [GRC] II D: forces are judged against F1 = max(F0, |P| a^(D-1)); "vanishing" below 1e-4 F1.
+  const double f1 = force_scale_f1(dim, v.diameter, std::abs(v.pressure), f0);
   const double tolerance = 1e-4 * f1;
 
   // First pass: counts, sums, the force scale without cohesion (<N^e> over the contacts).

@@ -6,6 +6,7 @@
 #include "granpack/analysis/force_statistics.h"
 #include "granpack/app/analysis_sections.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/contact/derived_constants.h"
 
 namespace granpack {
 
@@ -94,7 +95,7 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   MPI_Allreduce(MPI_IN_PLACE, pass2.sums().data(), int(pass2.sums().size()), MPI_DOUBLE, MPI_SUM, v.world);
   const auto& mat = v.material;
   const double e_tilde = mat.normal_law == "hertz" && v.deck.sample.distribution == "monodisperse"
-                             ? mat.young_modulus / (1 - mat.poisson_ratio * mat.poisson_ratio)
+                             ? e_tilde_of(mat.young_modulus, mat.poisson_ratio)
                              : 0.0;
   const ForceStatistics fs = finish_force_statistics<dim>(
       pass1, pass2, PackingScales{v.pressure, v.diameter, v.phi, n, v.system.cell.volume(), e_tilde});

@@ -26,6 +26,9 @@
 #include "granpack/comm/gather.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/contact/collision_times.h"
+#include "granpack/contact/derived_constants.h"
+#include "granpack/contact/normal_elasticity.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/io/log.h"
@@ -211,12 +214,12 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
     }
   }
   // Hertz, equal spheres: N = (2/3) E~ sqrt(R*) h^{3/2}, K_N = E~ sqrt(R* h), R* = a/4.
-  const double e_tilde = mat.young_modulus / (1 - mat.poisson_ratio * mat.poisson_ratio);
-  const double r_eff = 0.25 * a;
-  const double h_typ = std::pow(1.5 * mean_force / (e_tilde * std::sqrt(r_eff)), 2.0 / 3.0);
-  const double k_typ = e_tilde * std::sqrt(r_eff * h_typ);
-  const double m_eff = 0.5 * mass_sum / static_cast<double>(n);
-  const double contact_time = std::numbers::pi * std::sqrt(m_eff / k_typ);
+  const double e_tilde = e_tilde_of(mat.young_modulus, mat.poisson_ratio);
+  const double r_eff = equal_grains_effective_radius(a);
+  const double h_typ = hertz_overlap_at_force(e_tilde, r_eff, mean_force);
+  const double k_typ = hertz_stiffness(e_tilde, r_eff, h_typ);
+  const double m_eff = equal_grains_effective_mass(mass_sum / static_cast<double>(n));
+  const double contact_time = linear_contact_duration(k_typ, m_eff);
   s.dt = o.time_step_fraction * contact_time;
 
   // --- 3. velocities; fresh histories --------------------------------------------------

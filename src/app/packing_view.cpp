@@ -9,6 +9,7 @@
 #include "granpack/comm/clusters.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/contact/derived_constants.h"
 #include "granpack/core/error.h"
 
 namespace granpack {
@@ -105,12 +106,11 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   // [AR]'s scale a^2 P; with cohesion [GRC]'s F1 = max(F0, a^2 P) (II D), as the engine's
   // criteria: at P* = 0 the pressure is ~0 or negative, and a threshold from it would count
   // distant pairs (N^e = 0) as force-carrying contacts.
-  const double pressure_force = (dim == 3 ? v.diameter * v.diameter : v.diameter) * v.pressure;
-  v.force_threshold = threshold * (v.cohesion_force > 0 ? std::max(v.cohesion_force, pressure_force) : pressure_force);
+  v.force_threshold = threshold * force_scale_f1(dim, v.diameter, v.pressure, v.cohesion_force);
 
   for (const auto& c : v.contacts)
     if (c.normal_force > v.force_threshold) v.carrying.push_back({c.i, c.j, c.normal_force});
-  const int min_contacts = v.friction > 0 ? 2 : dim + 1;
+  const int min_contacts = min_backbone_contacts(dim, v.friction);
   v.backbone = find_backbone(p, v.halo, *v.decomposition, v.carrying, min_contacts);
   // Backbone coordinations on the ghosts too (the force statistics split by coordination).
   v.halo.forward_values(v.backbone.counts, *v.decomposition);

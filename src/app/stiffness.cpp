@@ -18,6 +18,7 @@
 #include "granpack/app/analysis_sections.h"
 #include "granpack/app/packing_view.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/contact/derived_constants.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/io/report.h"
 #include "granpack/prep/material_law.h"
@@ -257,7 +258,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["z"] = z;
   j["Z_5_3"] = z53;
   if (dim == 3 && mat.normal_law == "hertz" && v.deck.sample.distribution == "monodisperse") {
-    const double e_tilde = mat.young_modulus / (1 - mat.poisson_ratio * mat.poisson_ratio);
+    const double e_tilde = e_tilde_of(mat.young_modulus, mat.poisson_ratio);
     const double b30 = 1.0 / (2.0 * z53) * std::pow(z * v.phi / (3.0 * std::numbers::pi), 2.0 / 3.0) *
                        std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure);
     j["bulk_modulus_eq30"] = b30;

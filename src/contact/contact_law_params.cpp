@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "granpack/contact/derived_constants.h"
 #include "granpack/core/error.h"
 
 namespace granpack {
@@ -20,7 +21,7 @@ template <int dim> ContactLaw<dim> make_contact_law(const ContactLawParams& p) {
     require(std::isfinite(p.young_modulus) && p.young_modulus > 0,
             "Hertz needs a Young modulus E > 0");
     require(std::isfinite(nu) && nu > -1 && nu < 0.5, "Poisson ratio must be in (-1, 0.5)");
-    law.normal = HertzNormal{p.young_modulus / (1.0 - nu * nu)};
+    law.normal = HertzNormal{e_tilde_of(p.young_modulus, nu)};
     break;
   case NormalLawKind::kLinear:
     require(std::isfinite(p.k_n) && p.k_n > 0, "linear normal law needs K_N > 0");

@@ -271,8 +271,8 @@ void ContactForceLoop<dim>::elastic_forces(const System<dim>& sys, const VerletL
     // Branch vectors to the middle of the overlap, as in ContactLaw::force (for a distant
     // pair f is along n and its moments vanish whatever the branch).
     const RotVec<dim> gamma = -k_r * st.rolling;  // rolling moment on j
-    (*moments)[j] += moment<dim>(Vec<dim>(-(radius[j] - 0.5 * h) * n), f) + gamma;
-    (*moments)[i] += moment<dim>(Vec<dim>((radius[i] - 0.5 * h) * n), Vec<dim>(-f)) - gamma;
+    (*moments)[j] += moment<dim>(Vec<dim>(-contact_arm(radius[j], h) * n), f) + gamma;
+    (*moments)[i] += moment<dim>(Vec<dim>(contact_arm(radius[i], h) * n), Vec<dim>(-f)) - gamma;
   });
 }
 

@@ -25,9 +25,10 @@ std::optional<HertzMindlinConstants> HertzMindlinConstants::of(const ContactLaw<
 
 namespace {
 
-// The loop body follows ContactLaw<3>::force line by line (contact_law.h, tangential.h,
-// normal_elasticity.h), with fewer divisions; the branches of the scalar law become selects, and the branches the
-// batch does not take (large angles, large unloading, no overlap) set `exact`.
+// The loop body follows ContactLaw<3>::force line by line, calling the same formulas (one
+// inline function each in contact/normal_elasticity.h, normal_damping.h, tangential.h,
+// pair_geometry.h), with fewer divisions; the branches of the scalar law become selects, and
+// the branches the batch does not take (large angles, large unloading, no overlap) set `exact`.
 // Compiled once per instruction set (GRANPACK_SIMD_CLONES): the default build stays portable
 // (SSE2) and still runs 4- or 8-wide on CPUs with AVX2 or AVX-512.
 
@@ -39,7 +40,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
   // a zero damping coefficient; μ = +inf never slides (t2 > inf is false).
   const bool hertz = c.e_tilde > 0;
   const double e_tilde = c.e_tilde, k_lin = hertz ? 0.0 : c.linear_k_n;
-  const double n_factor = hertz ? 2.0 / 3.0 : 1.0;
+  const double n_factor = hertz ? kHertzForceFactor : kLinearForceFactor;
   const double two_zeta = 2.0 * c.zeta;
   const double k_t_ratio = c.k_t_ratio, mu = c.mu;
   const bool walton = c.walton && hertz;  // the linear law's stiffness ratio is 1
@@ -70,7 +71,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     const double hp = touching ? h : 0.0;  // keeps the padding and flagged lanes finite
 
     // Branch vectors to the middle of the overlap: b_i = (R_i - h/2) n, b_j = -(R_j - h/2) n.
-    const double ci = ri - 0.5 * h, cj = -(rj - 0.5 * h);
+    const double ci = contact_arm(ri, h), cj = -contact_arm(rj, h);
     const double bix = ci * nx, biy = ci * ny, biz = ci * nz;
     const double bjx = cj * nx, bjy = cj * ny, bjz = cj * nz;
 
@@ -86,9 +87,9 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     const double dtx = dvx - dv_n * nx, dty = dvy - dv_n * ny, dtz = dvz - dv_n * nz;
 
     // Normal elasticity and damping.
-    const double k_n = e_tilde * std::sqrt(r_eff * hp) + k_lin;
-    const double n_el = n_factor * k_n * hp;
-    const double n_visc = two_zeta * std::sqrt(m_eff * k_n) * h_dot;
+    const double k_n = hertz_stiffness(e_tilde, r_eff, hp) + k_lin;
+    const double n_el = normal_elastic_force(n_factor, k_n, hp);
+    const double n_visc = viscous_coefficient(two_zeta, m_eff, k_n) * h_dot;
 
     // Rotation of the contact over the step (contact_rotation): rolling n x dn + pivoting.
     const double vn = nx * vx + ny * vy + nz * vz;
@@ -122,7 +123,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     // Walton: N^e decreased, T scaled by K_N(N)/K_N(N_old) = (N/N_old)^{1/3}.
     const double n_old = b.n_old[l];
     const bool unloading = walton & (n_el < n_old);
-    const double xw = n_el / (unloading ? n_old : 1.0) - 1.0;
+    const double xw = relative_load_change(n_el, unloading ? n_old : 1.0);
     const double ratio = n_el > 0 ? cbrt_one_plus_series(xw) : 0.0;
     const double scale = unloading ? ratio : 1.0;
     tx *= scale;
@@ -130,14 +131,14 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     tz *= scale;
 
     // Elastic increment, then Coulomb on N^e.
-    const double kdt = (k_n > 0 ? k_t_ratio * k_n : 0.0) * dt;
+    const double kdt = proportional_tangential_stiffness(k_t_ratio, k_n) * dt;
     tx -= kdt * dtx;
     ty -= kdt * dty;
     tz -= kdt * dtz;
-    const double limit = mu * n_el;
+    const double limit = coulomb_limit(mu, n_el);
     const double t2 = tx * tx + ty * ty + tz * tz;
-    const bool slide = t2 > limit * limit;
-    const double cut = limit > 0 ? limit / std::sqrt(t2 > 0 ? t2 : 1.0) : 0.0;
+    const bool slide = beyond_coulomb(t2, limit);
+    const double cut = limit > 0 ? coulomb_scale(limit, t2 > 0 ? t2 : 1.0) : 0.0;
     tx = slide ? tx * cut : tx;
     ty = slide ? ty * cut : ty;
     tz = slide ? tz * cut : tz;
@@ -160,9 +161,9 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     b.n_old[l] = n_el;
     b.overlap[l] = h;
     b.sliding[l] = slide ? 1 : 0;
-    const bool big_angle = (mag2 != 0) & !(x2 < 1e-6);
+    const bool big_angle = (mag2 != 0) & !(x2 < kSmallAngleSquared);
     // (A zero T needs no rescaling: frictionless packings never leave the path here.)
-    const bool big_unload = unloading & (mag2 != 0) & (n_el > 0) & !(std::abs(xw) < 1e-3);
+    const bool big_unload = unloading & (mag2 != 0) & (n_el > 0) & !(std::abs(xw) < kSmallLoadChange);
     const bool exact = !touching | big_angle | big_unload;
     b.exact[l] = exact ? 1 : 0;
 

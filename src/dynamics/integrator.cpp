@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "granpack/contact/tangential.h"  // small_angle_series
+#include "granpack/contact/tangential.h"  // small_angle_series, kSmallAngleSquared
 #include "granpack/core/simd_clones.h"
 
 namespace granpack {
@@ -64,7 +64,7 @@ bool turn_on_series(double* o, const double* w, std::size_t n, double hdt) {
     const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
     y2_max = std::max(y2_max, ux * ux + uy * uy + uz * uz);
   }
-  if (!(y2_max < 1e-6)) return false;
+  if (!(y2_max < kSmallAngleSquared)) return false;
   for (std::size_t i = 0; i < n; ++i) {
     const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
     const double y2 = ux * ux + uy * uy + uz * uz;
@@ -96,7 +96,7 @@ template <int dim> void drift(ParticleStore<dim>& p, const Cell<dim>& cell, doub
       const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
       const double y2 = ux * ux + uy * uy + uz * uz;
       if (!(y2 > 0)) continue;
-      if (y2 < 1e-6) {
+      if (y2 < kSmallAngleSquared) {
         const SmallAngle a = small_angle_series(y2);
         rotate_quaternion(o + 4 * i, a.cos_x, a.sin_x_over_x, ux, uy, uz);
       } else {

@@ -12,6 +12,7 @@
 
 #include "granpack/comm/clusters.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/contact/derived_constants.h"
 #include "granpack/core/error.h"
 #include "granpack/prep/checkpoint.h"
 #include "granpack/prep/material_law.h"
@@ -67,13 +68,13 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index << " (aggregate): there is no sample yet");
   const double grain_mass = reference_grain_mass(ctx);
   const double f0 = mat.cohesion_force;
-  const double v_star = std::sqrt(f0 * mat.cohesion_range / grain_mass);
+  const double v_star = cohesive_velocity_scale(f0, mat.cohesion_range, grain_mass);
   const double v0 = g.velocity_ratio * v_star;
 
   MdSettings<dim> s = deck_md_settings(ctx);
   // The force scale of the contacts is F0 (P* << 1): time step from a contact loaded by ~5 F0.
   s.dt = ctx.deck->numerics.time_step_fraction *
-         contact_duration(mat, sample, dim, f0 / (dim == 3 ? a * a : a));
+         contact_duration(mat, sample, dim, f0 / grain_section(dim, a));
   s.stress_control = false;
   for (int k = 0; k < dim; ++k) s.cell.fixed[k] = true;  // no stress criterion either
 
@@ -192,7 +193,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
                   "  %s: %lld cluster(s), phi %.6f, z %.4f (z+ %.4f, z- %.4f, z0 %.4f), t = %.4g T0",
                   done ? "aggregated and equilibrated" : "NOT done (max_steps reached)",
                   static_cast<long long>(clusters), *r.phi, cc.z, cc.z_plus, cc.z_minus, cc.z_zero,
-                  r.time / std::sqrt(grain_mass * a / f0));
+                  r.time / cohesive_time_scale(f0, a, grain_mass));
     ctx.log->info(buf);
   }
   r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();

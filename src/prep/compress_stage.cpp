@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "granpack/contact/derived_constants.h"
 #include "granpack/core/error.h"
 #include "granpack/dynamics/eta_estimate.h"
 #include "granpack/prep/checkpoint.h"
@@ -50,7 +51,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   const double f0 = ctx.material.cohesion_force;
   MdSettings<dim> s = deck_md_settings(ctx);
   // The time step: contacts loaded by 5 a^2 P, or by 5 F0 under P* = 0 ([GRC] relaxation).
-  const double load = P > 0 ? P : f0 / std::pow(a, dim - 1);
+  const double load = P > 0 ? P : f0 / grain_section(dim, a);
   s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, load);
   s.stress_control = true;
   s.cell = cell_control_of(ctx, c);
@@ -81,8 +82,9 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
       std::snprintf(buf, sizeof buf,
                     "  cohesion: F0 = %.6g N, D0/a = %.3g, P* = %.6g, kappa = a K_N/F0 = %.6g, "
                     "V* = sqrt(F0 D0 / m) = %.4g m/s, T0 = sqrt(m a / F0) = %.4g s",
-                    f0, mat.cohesion_range / a, (dim == 3 ? a * a : a) * P / f0, kappa_f0,
-                    std::sqrt(f0 * mat.cohesion_range / grain_mass), std::sqrt(grain_mass * a / f0));
+                    f0, mat.cohesion_range / a, pressure_force(dim, a, P) / f0, kappa_f0,
+                    cohesive_velocity_scale(f0, mat.cohesion_range, grain_mass),
+                    cohesive_time_scale(f0, a, grain_mass));
       ctx.log->info(buf);
     }
     if (mat.rolling_stiffness > 0) {
@@ -193,7 +195,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, ctx.solid_fraction(), m,
                                   engine.observables().contacts, 0.0, cohesive, with_moment));
 
-  const int min_contacts = ctx.material.friction > 0 ? 2 : dim + 1;
+  const int min_contacts = min_backbone_contacts(dim, ctx.material.friction);
   const StateMetrics sm = state_metrics(ctx, engine, c.tolerance.force * force_scale, min_contacts);
   StageReport r;
   r.steps = ctx.system.step - first_step;

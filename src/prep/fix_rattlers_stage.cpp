@@ -19,6 +19,7 @@
 
 #include "granpack/comm/halo.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/contact/derived_constants.h"
 #include "granpack/core/error.h"
 #include "granpack/prep/checkpoint.h"
 #include "granpack/prep/backbone.h"
@@ -66,9 +67,9 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
                           << ") needs an equilibrated packing from a compress stage");
   const auto& sample = ctx.deck->sample;
   const double a = sample.diameter;
-  const double force_scale = (dim == 3 ? a * a : a) * P;
+  const double force_scale = pressure_force(dim, a, P);
   const double push = f.force * force_scale;
-  const int min_contacts = ctx.material.friction > 0 ? 2 : dim + 1;
+  const int min_contacts = min_backbone_contacts(dim, ctx.material.friction);
 
   MdSettings<dim> s = deck_md_settings(ctx);
   s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, P);

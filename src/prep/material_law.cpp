@@ -1,9 +1,10 @@
 #include "granpack/prep/material_law.h"
 
 #include <cmath>
-#include <numbers>
 
+#include "granpack/contact/collision_times.h"
 #include "granpack/contact/contact_law_params.h"
+#include "granpack/contact/derived_constants.h"
 #include "granpack/core/particles.h"
 
 namespace granpack {
@@ -36,22 +37,20 @@ double contact_duration(const MaterialSpec& m, const SampleSpec& s, int dim, dou
   const double d_min = s.distribution == "uniform" ? a * s.min_diameter_ratio : a;
   const double mass = dim == 3 ? HomogeneousGrain<3>::mass(m.density, d_min)
                                : HomogeneousGrain<2>::mass(m.density, d_min);
-  const double m_eff = 0.5 * mass;
+  const double m_eff = equal_grains_effective_mass(mass);
   double k = m.normal_stiffness;
   if (m.normal_law == "hertz") {
-    const double e_tilde = m.young_modulus / (1 - m.poisson_ratio * m.poisson_ratio);
-    const double r_eff = 0.25 * d_min;
-    const double force = 5.0 * (dim == 3 ? a * a : a) * pressure;
-    const double h = std::pow(1.5 * force / (e_tilde * std::sqrt(r_eff)), 2.0 / 3.0);
-    k = e_tilde * std::sqrt(r_eff * h);
+    const double e_tilde = e_tilde_of(m.young_modulus, m.poisson_ratio);
+    const double r_eff = equal_grains_effective_radius(d_min);
+    const double force = 5.0 * grain_section(dim, a) * pressure;
+    k = hertz_stiffness_at_force(e_tilde, r_eff, force);
   }
-  return std::numbers::pi * std::sqrt(m_eff / k);
+  return linear_contact_duration(k, m_eff);
 }
 
 double stiffness_number(const MaterialSpec& m, const SampleSpec& s, int dim, double pressure) {
   if (m.normal_law == "hertz") {
-    const double e_tilde = m.young_modulus / (1 - m.poisson_ratio * m.poisson_ratio);
-    return std::pow(e_tilde / pressure, 2.0 / 3.0);
+    return hertz_stiffness_number(e_tilde_of(m.young_modulus, m.poisson_ratio), pressure);
   }
   return m.normal_stiffness / (std::pow(s.diameter, dim - 2) * pressure);
 }

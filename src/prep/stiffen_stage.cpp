@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "granpack/contact/derived_constants.h"
 #include "granpack/core/error.h"
 #include "granpack/prep/checkpoint.h"
 #include "granpack/prep/material_law.h"
@@ -69,7 +70,7 @@ template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenSt
   // The cell mass is fixed at the stage start (L0 then); a restart restores it bit for bit.
   if (resuming) s.cell.mass = cell_mass;
   cell_mass = s.cell.mass;
-  const double load = g.control.pressure > 0 ? g.control.pressure : f0 / std::pow(a, dim - 1);
+  const double load = g.control.pressure > 0 ? g.control.pressure : f0 / grain_section(dim, a);
   auto last_log = clock::now();
   std::int64_t last_log_step = ctx.system.step;
   for (; increment < g.increments; ++increment) {

@@ -5,7 +5,7 @@
 // (h > 0) the attraction stays constant, N^a = -F0, and adds to N^e + N^v. Coulomb and the
 // rolling threshold use N^e alone ([GRC] eq. 8, 10), so a cohesive contact at its isolated
 // equilibrium deflection h0 = F0/K_N (eq. 11) still resists sliding up to μF0.
-#include <cmath>
+#include "granpack/contact/derived_constants.h"
 
 namespace granpack {
 
@@ -30,7 +30,7 @@ struct Cohesion {
 };
 
 inline double Cohesion::escape_velocity(double reduced_mass) const {
-  return std::sqrt(f0 * d0 / reduced_mass);
+  return cohesive_velocity_scale(f0, d0, reduced_mass);
 }
 
 }  // namespace granpack

@@ -117,10 +117,10 @@ template <int dim> struct ContactLaw {
     t -= (k_t * dt) * dv_t;
     state.flags &= ~static_cast<std::uint32_t>(kSliding | kDistant);
     if (!friction.unlimited()) {
-      const double limit = friction.mu * nr.force;
+      const double limit = coulomb_limit(friction.mu, nr.force);
       const double t2 = t.squaredNorm();
-      if (t2 > limit * limit) {
-        t = limit > 0 ? Vec<dim>(t * (limit / std::sqrt(t2))) : Vec<dim>::Zero();
+      if (beyond_coulomb(t2, limit)) {
+        t = limit > 0 ? Vec<dim>(t * coulomb_scale(limit, t2)) : Vec<dim>::Zero();
         state.flags |= kSliding;
       }
     }

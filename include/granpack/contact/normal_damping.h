@@ -7,12 +7,18 @@
 
 namespace granpack {
 
+/// α = 2ζ sqrt(m* K_N) given 2ζ: the formula NormalDamping and the batched kernel
+/// (dynamics/hertz_mindlin_batch, which holds 2ζ) share.
+inline double viscous_coefficient(double two_zeta, double m_eff, double k_n) {
+  return two_zeta * std::sqrt(m_eff * k_n);
+}
+
 struct NormalDamping {
   double zeta = 0;  ///< fraction of critical damping, in [0, 1)
 
   /// α(h) for reduced mass m* and current normal stiffness K_N(h).
   double coefficient(double m_eff, double k_n) const {
-    return zeta > 0 ? 2.0 * zeta * std::sqrt(m_eff * k_n) : 0.0;
+    return zeta > 0 ? viscous_coefficient(2.0 * zeta, m_eff, k_n) : 0.0;
   }
 };
 

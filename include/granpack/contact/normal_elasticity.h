@@ -19,23 +19,54 @@ inline double cbrt_one_plus_series(double x) {
   return 1.0 + x * (1.0 / 3.0 - x * (1.0 / 9.0 - x * (5.0 / 81.0 - x * (10.0 / 243.0 - x * (22.0 / 729.0)))));
 }
 
-/// Hertz: N = (2/3) Ẽ sqrt(R*) h^{3/2}, K_N = Ẽ sqrt(R* h), Ẽ = E/(1-ν²).
+// The formulas of the normal laws, one inline function each: HertzNormal and LinearNormal
+// below and the batched kernel (dynamics/hertz_mindlin_batch) both call them, so the law is
+// written once. h > 0 is assumed (callers test it, or select the result away).
+
+/// Hertz K_N = dN^e/dh = Ẽ sqrt(R* h) ([AR] eq. 2 in effective-radius form).
+inline double hertz_stiffness(double e_tilde, double r_eff, double h) {
+  return e_tilde * std::sqrt(r_eff * h);
+}
+
+/// N^e = c K_N h: c = 2/3 for Hertz (N^e ∝ h^{3/2}, [AR] eq. 1), 1 for the linear spring.
+inline constexpr double kHertzForceFactor = 2.0 / 3.0;
+inline constexpr double kLinearForceFactor = 1.0;
+inline double normal_elastic_force(double factor, double k_n, double h) { return factor * k_n * h; }
+
+/// Relative change of N^e below which K_N(N_new)/K_N(N_old) = (1 + x)^{1/3} is its series
+/// (cbrt_one_plus_series): from one step to the next N^e changes by ~1e-6..1e-3.
+inline constexpr double kSmallLoadChange = 1e-3;
+
+/// x = N_new/N_old - 1, the relative change of the elastic normal force (Walton rescaling).
+inline double relative_load_change(double n_new, double n_old) { return n_new / n_old - 1.0; }
+
+/// Hertz overlap at which N^e = force: h = (3 N / (2 Ẽ sqrt(R*)))^{2/3} (eq. 1 inverted).
+inline double hertz_overlap_at_force(double e_tilde, double r_eff, double force) {
+  return std::pow(1.5 * force / (e_tilde * std::sqrt(r_eff)), 2.0 / 3.0);
+}
+
+/// K_N of a Hertz contact carrying the force N^e = force: the stiffness a time step is
+/// chosen from (stages, bench).
+inline double hertz_stiffness_at_force(double e_tilde, double r_eff, double force) {
+  return hertz_stiffness(e_tilde, r_eff, hertz_overlap_at_force(e_tilde, r_eff, force));
+}
+
+/// Hertz: N = (2/3) Ẽ sqrt(R*) h^{3/2}, K_N = Ẽ sqrt(R* h), Ẽ = E/(1-ν²) (e_tilde_of).
 /// For equal spheres of diameter a (R* = a/4): N = Ẽ sqrt(a) h^{3/2}/3 ([AR] eq. 1).
 struct HertzNormal {
   double e_tilde = 0;  ///< Ẽ = E / (1 - ν²)
 
   NormalResponse response(double h, double r_eff) const {
     if (!(h > 0)) return {};
-    const double k = e_tilde * std::sqrt(r_eff * h);
-    return {(2.0 / 3.0) * k * h, k};
+    const double k = hertz_stiffness(e_tilde, r_eff, h);
+    return {normal_elastic_force(kHertzForceFactor, k, h), k};
   }
   /// K_N(N_new) / K_N(N_old) at fixed R*: (N_new/N_old)^{1/3} ([AR] eq. 2).
   double stiffness_ratio(double n_new, double n_old) const {
     if (!(n_new > 0)) return 0.0;
-    // From one step to the next N changes by ~1e-6..1e-3 relative: there (1 + x)^{1/3} is
-    // its binomial series to x⁵ (truncation < 0.03 x⁶ < 3e-20), cheaper than std::cbrt.
-    const double x = n_new / n_old - 1.0;
-    if (std::abs(x) < 1e-3) return cbrt_one_plus_series(x);
+    // Near 1, (1 + x)^{1/3} by its binomial series, cheaper than std::cbrt.
+    const double x = relative_load_change(n_new, n_old);
+    if (std::abs(x) < kSmallLoadChange) return cbrt_one_plus_series(x);
     return std::cbrt(n_new / n_old);
   }
 };
@@ -46,7 +77,7 @@ struct LinearNormal {
 
   NormalResponse response(double h, double /*r_eff*/) const {
     if (!(h > 0)) return {};
-    return {k_n * h, k_n};
+    return {normal_elastic_force(kLinearForceFactor, k_n, h), k_n};
   }
   double stiffness_ratio(double /*n_new*/, double /*n_old*/) const { return 1.0; }
 };

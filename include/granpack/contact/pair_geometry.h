@@ -35,6 +35,10 @@ template <int dim> inline RotVec<dim> moment(const Vec<dim>& b, const Vec<dim>& 
   }
 }
 
+/// Distance from a grain's centre to the contact point, the middle of the overlap: R - h/2.
+/// Shared by PairGeometry, the batched kernel and the elastic moments of the engine.
+inline double contact_arm(double radius, double h) { return radius - 0.5 * h; }
+
 /// Pure geometry of a pair: normal, overlap, effective radius and mass.
 template <int dim> struct PairGeometry {
   Vec<dim> normal = Vec<dim>::Zero();  ///< unit vector n from i to j
@@ -46,9 +50,9 @@ template <int dim> struct PairGeometry {
 
   bool touching() const { return overlap > 0; }
   /// Branch vector from the centre of i to the contact point (middle of the overlap).
-  Vec<dim> branch_i() const { return (radius_i - 0.5 * overlap) * normal; }
+  Vec<dim> branch_i() const { return contact_arm(radius_i, overlap) * normal; }
   /// Branch vector from the centre of j to the contact point.
-  Vec<dim> branch_j() const { return -(radius_j - 0.5 * overlap) * normal; }
+  Vec<dim> branch_j() const { return -contact_arm(radius_j, overlap) * normal; }
 };
 
 /// Builds the pair geometry from radii, masses and the centre-to-centre vector r_ij (i -> j).

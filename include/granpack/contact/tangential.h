@@ -21,6 +21,23 @@ enum class TangentialStiffnessKind {
   kConstant,  ///< K_T constant (linear law)
 };
 
+// The formulas of the tangential sub-models, one inline function each: TangentialElasticity,
+// ContactLaw::force and the batched kernel (dynamics/hertz_mindlin_batch) all call them.
+
+/// K_T = ratio · K_N for a K_T that follows K_N (Mindlin, [AR] eq. 3: ratio (2-2ν)/(2-ν));
+/// 0 out of contact (K_N = 0).
+inline double proportional_tangential_stiffness(double ratio, double k_n) {
+  return k_n > 0 ? ratio * k_n : 0.0;
+}
+
+/// Coulomb's threshold μ N^e on |T| ([GRC] eq. 8; N^e alone, without N^v or N^a).
+inline double coulomb_limit(double mu, double normal_elastic) { return mu * normal_elastic; }
+/// T beyond the cone: |T|² = t2 > limit² (false for μ = +inf).
+inline bool beyond_coulomb(double t2, double limit) { return t2 > limit * limit; }
+/// Factor limit/|T| that brings a T beyond the cone (|T|² = t2 > 0) back onto it, for
+/// limit > 0; a zero limit (μ = 0 or N^e = 0) zeroes T instead.
+inline double coulomb_scale(double limit, double t2) { return limit / std::sqrt(t2); }
+
 /// Tangential stiffness sub-model.
 struct TangentialElasticity {
   TangentialStiffnessKind kind = TangentialStiffnessKind::kMindlin;
@@ -44,7 +61,7 @@ struct TangentialElasticity {
   /// K_T given the current K_N(h) (0 out of contact).
   double stiffness(double k_n) const {
     if (!(k_n > 0)) return 0.0;
-    return proportional_to_normal() ? value * k_n : value;
+    return proportional_to_normal() ? proportional_tangential_stiffness(value, k_n) : value;
   }
 };
 
@@ -75,10 +92,12 @@ inline RotVec<dim> contact_rotation(const PairGeometry<dim>& g, const Vec<dim>& 
   return theta;
 }
 
-/// cos x, sin(x)/x and (1 - cos x)/x² from x² by their Taylor series to x⁴: for x² < 1e-6
-/// (always, for the angles of one MD step: ~1e-7..1e-4 rad) the truncation is < x⁶/720
-/// < 2e-21, far below rounding, and neither the angle's square root nor sin/cos is needed.
-/// Shared by the transport of T, the batched contact kernel and the orientation update.
+/// cos x, sin(x)/x and (1 - cos x)/x² from x² by their Taylor series to x⁴: for x² below
+/// kSmallAngleSquared = 1e-6 (always, for the angles of one MD step: ~1e-7..1e-4 rad) the
+/// truncation is < x⁶/720 < 2e-21, far below rounding, and neither the angle's square root
+/// nor sin/cos is needed. Shared by the transport of T, the batched contact kernel and the
+/// orientation update.
+inline constexpr double kSmallAngleSquared = 1e-6;
 struct SmallAngle {
   double cos_x, sin_x_over_x, one_minus_cos_over_x2;
 };
@@ -101,7 +120,7 @@ inline Vec<dim> transport_tangential(const Vec<dim>& t, const RotVec<dim>& theta
   if constexpr (dim == 3) {
     const double x2 = theta.squaredNorm();
     double c, s_over_x, omc_over_x2;  // cos x, sin(x)/x, (1 - cos x)/x²
-    if (x2 < 1e-6) {
+    if (x2 < kSmallAngleSquared) {
       const SmallAngle a = small_angle_series(x2);
       c = a.cos_x;
       s_over_x = a.sin_x_over_x;
@@ -116,7 +135,7 @@ inline Vec<dim> transport_tangential(const Vec<dim>& t, const RotVec<dim>& theta
   } else {
     const double x = theta[0], x2 = x * x;
     double c, s;
-    if (x2 < 1e-6) {
+    if (x2 < kSmallAngleSquared) {
       const SmallAngle a = small_angle_series(x2);
       c = a.cos_x;
       s = x * a.sin_x_over_x;

@@ -10,8 +10,9 @@
 // magnitude). F1 = max(F0, P a^(dim-1)) is [GRC]'s force scale; without cohesion it is
 // [AR]'s a^2 P (3D), and the scales are a^2 P, P and P a^3.
 // The kinetic energy counts every grain, translation and spin, as both papers do.
-#include <algorithm>
 #include <limits>
+
+#include "granpack/contact/derived_constants.h"
 
 namespace granpack {
 
@@ -29,8 +30,8 @@ struct EquilibriumScales {
   double force = 1, stress = 1, energy = 1, moment = 1;
   /// F1 = max(F0, P a^(dim-1)): force F1, stress F1/a^(dim-1), energy and moment F1 a.
   static EquilibriumScales of(int dim, double a, double pressure, double cohesion_force) {
-    const double f1 = std::max(cohesion_force, (dim == 3 ? a * a : a) * pressure);
-    return {f1, f1 / (dim == 3 ? a * a : a), f1 * a, f1 * a};
+    const double f1 = force_scale_f1(dim, a, pressure, cohesion_force);
+    return {f1, f1 / grain_section(dim, a), f1 * a, f1 * a};
   }
 };
 

@@ -24,7 +24,7 @@ struct Backbone {
 };
 
 /// `carrying`: this rank's force-carrying contacts by local index (ghosts included).
-/// min_contacts: dim + 1 without friction, 2 with friction.
+/// min_contacts: min_backbone_contacts(dim, μ) of contact/derived_constants.h.
 template <int dim>
 Backbone find_backbone(const ParticleStore<dim>& p, const Halo<dim>& halo,
                        const Decomposition<dim>& d, const std::vector<CarryingContact>& carrying,

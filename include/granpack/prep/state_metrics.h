@@ -7,7 +7,7 @@
 
 namespace granpack {
 
-/// min_contacts: dim + 1 without friction, 2 with friction.
+/// min_contacts: min_backbone_contacts(dim, μ) of contact/derived_constants.h.
 template <int dim>
 StateMetrics state_metrics(RunContext<dim>& ctx, const MdEngine<dim>& engine, double threshold,
                            int min_contacts);
