@@ -65,7 +65,7 @@ template <int dim> PercolationResult percolation(const PackingView<dim>& v, cons
 template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v) {
   const auto& p = v.particles();
   const double n = double(v.n);
-  const double f0 = v.cohesion_force;
+  const double f0 = v.contact_law.cohesion_force;
   const double a_pow = dim == 3 ? v.diameter * v.diameter : v.diameter;
   // [GRC] II D: forces are judged against F1 = max(F0, P a^(D-1)); "vanishing" below 1e-4 F1.
   const double f1 = std::max(f0, std::abs(v.pressure) * a_pow);
