@@ -117,7 +117,13 @@ def load(path, label):
             Tv = f["contacts/tangential_force"][:].astype(float)
             flags = f["contacts/flags"][:].astype(np.int64)
             deck = f["deck"][()] if "deck" in f else b""
-        except (OSError, ValueError, TypeError) as e:
+            # The contact law in force when the file was written (docs/hdf5-schema.md); files
+            # written before the group existed replay the stored deck (material() below).
+            law = None
+            if "parameters" in f:
+                a = f["parameters"].attrs
+                law = tuple(float(a[k]) for k in ("cohesion_force", "cohesion_range", "friction"))
+        except (OSError, ValueError, TypeError, KeyError) as e:
             die(f"'{path}': cannot read the packing ({e})")
         stage_index = f.attrs.get("stage_index")
         stage_index = int(stage_index) if stage_index is not None else None
@@ -135,7 +141,9 @@ def load(path, label):
     Tv = Tv[:, :2]
     if isinstance(deck, bytes):
         deck = deck.rstrip(b"\0").decode("utf-8", errors="replace")
-    if not deck:
+    if law is not None:
+        f0, d0, mu = law
+    elif not deck:
         note(f"{path}: no /deck dataset; assuming no cohesion and an unknown friction coefficient")
         f0, d0, mu = 0.0, 0.0, None
     else:

@@ -66,7 +66,7 @@ template <int dim> PercolationResult percolation(const PackingView<dim>& v, cons
 template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v) {
   const auto& p = v.particles();
   const double n = double(v.n);
-  const double f0 = v.cohesion_force;
+  const double f0 = v.contact_law.cohesion_force;
   // [GRC] II D: forces are judged against F1 = max(F0, |P| a^(D-1)); "vanishing" below 1e-4 F1.
   const double f1 = force_scale_f1(dim, v.diameter, std::abs(v.pressure), f0);
   const double tolerance = 1e-4 * f1;

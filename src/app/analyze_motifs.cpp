@@ -9,13 +9,12 @@
 #include "granpack/app/analysis_sections.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
-#include "granpack/prep/material_law.h"
 
 namespace granpack {
 
 template <int dim> nlohmann::json analyze_motifs(const PackingView<dim>& v) {
   const auto& p = v.particles();
-  const ContactLaw<dim> law = contact_law_of<dim>(v.material);
+  const ContactLaw<dim>& law = v.law;
   MotifGraph g;
   g.id = p.id;
   g.owned.assign(p.size(), 0);

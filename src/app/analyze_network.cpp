@@ -69,7 +69,7 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   j["x_i_without_rattlers"] = fractions(h3, n - double(m.rattlers), v.world);
   j["x2"] = double(divalent) / n;
   const Hyperstaticity hs = hyperstaticity<dim>(m.backbone_contacts, m.n - m.rattlers, divalent,
-                                                v.friction > 0);
+                                                v.law.friction.mu > 0);
   j["H"] = hs.degree;
   j["H_over_Nf"] = hs.per_dof;
 
@@ -93,8 +93,8 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   ForceSplitSums pass2(pass1.mean_normal_force());
   pass2.add(samples);
   MPI_Allreduce(MPI_IN_PLACE, pass2.sums().data(), int(pass2.sums().size()), MPI_DOUBLE, MPI_SUM, v.world);
-  const auto& mat = v.material;
-  const double e_tilde = mat.normal_law == "hertz" && v.deck.sample.distribution == "monodisperse"
+  const auto& mat = v.contact_law;
+  const double e_tilde = mat.normal == NormalLawKind::kHertz && v.deck.sample.distribution == "monodisperse"
                              ? e_tilde_of(mat.young_modulus, mat.poisson_ratio)
                              : 0.0;
   const ForceStatistics fs = finish_force_statistics<dim>(

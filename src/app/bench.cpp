@@ -171,11 +171,11 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   mat.damping = 0.98;
   SampleSpec sample;
   sample.diameter = a;
-  ctx.material = mat;
-  const ContactLaw<3> law = contact_law_of<3>(mat);
+  ctx.contact_law = contact_law_params(mat);
+  const ContactLaw<3> law = make_contact_law<3>(ctx.contact_law);
   MdSettings<3> s;
   s.skin = o.skin * a;
-  s.dt = o.time_step_fraction * contact_duration(mat, sample, 3, o.pressure);  // provisional
+  s.dt = o.time_step_fraction * contact_duration(ctx.contact_law, mat.density, sample, 3, o.pressure);  // provisional
 
   double static_pressure = 0, mean_force = 0;
   std::int64_t static_contacts = 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <numbers>
 #include <unordered_map>
@@ -21,11 +22,20 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   v.world = world;
   Configuration<dim> cfg = read_configuration<dim>(world, file);
   v.deck = parse_deck(meta.deck_text, file.string() + ":/deck");
-  v.material = material_after(v.deck, meta.stage_index);
-  v.friction = v.material.friction;
+  const StateParameters parameters =
+      meta.parameters ? *meta.parameters : replayed_parameters(v.deck, meta.stage_index);
+  if (!meta.parameters) {
+    int rank = 0;
+    MPI_Comm_rank(world, &rank);
+    if (rank == 0)
+      std::cerr << "granpack: " << file.string() << " has no /parameters (written by granpack "
+                << meta.granpack_version << "): its contact law and stress target are "
+                << "replayed from its deck up to stage " << meta.stage_index << "\n";
+  }
+  v.contact_law = parameters.contact_law;
+  v.stress_target = parameters.stress_target;
+  v.law = make_contact_law<dim>(v.contact_law);
   v.diameter = v.deck.sample.diameter;
-  v.cohesion_force = v.material.cohesion_force;
-  v.cohesion_range = v.material.cohesion_range;
 
   auto& sys = v.system;
   sys.cell = cfg.cell;
@@ -82,13 +92,10 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
     const Vec<dim> r = sys.cell.length.cwiseProduct(p.position[j] - p.position[i]);
     const auto& st = sys.contacts.state(k);
     const bool distant = (st.flags & kDistant) != 0;
-    // [GRC] eq. 4-5: -F0 in contact, -F0 (1 - g/D0) across a gap g (stored pairs have g < D0).
-    double attraction = 0;
-    if (v.cohesion_force > 0)
-      attraction = distant ? -v.cohesion_force *
-                                 (1.0 - std::max(0.0, r.norm() - p.radius[i] - p.radius[j]) /
-                                            v.cohesion_range)
-                           : -v.cohesion_force;
+    // The law's attraction at the pair's overlap h ([GRC] eq. 4-5: -F0 in contact, -F0 (1 -
+    // g/D0) across a gap g = -h; 0 without cohesion). h is computed as -(|r| - R_i - R_j),
+    // whose rounding the analyses of the committed files were made with.
+    const double attraction = v.law.attraction(-(r.norm() - p.radius[i] - p.radius[j]));
     v.contacts.push_back({i, j, r, st.normal_force, st.tangential_force, attraction, distant, st.rolling});
   }
   GRANPACK_CHECK(global_sum(world, lost) == 0,
@@ -106,11 +113,11 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   // [AR]'s scale a^2 P; with cohesion [GRC]'s F1 = max(F0, a^2 P) (II D), as the engine's
   // criteria: at P* = 0 the pressure is ~0 or negative, and a threshold from it would count
   // distant pairs (N^e = 0) as force-carrying contacts.
-  v.force_threshold = threshold * force_scale_f1(dim, v.diameter, v.pressure, v.cohesion_force);
+  v.force_threshold = threshold * force_scale_f1(dim, v.diameter, v.pressure, v.contact_law.cohesion_force);
 
   for (const auto& c : v.contacts)
     if (c.normal_force > v.force_threshold) v.carrying.push_back({c.i, c.j, c.normal_force});
-  const int min_contacts = min_backbone_contacts(dim, v.friction);
+  const int min_contacts = min_backbone_contacts(dim, v.law.friction.mu);
   v.backbone = find_backbone(p, v.halo, *v.decomposition, v.carrying, min_contacts);
   // Backbone coordinations on the ghosts too (the force statistics split by coordination).
   v.halo.forward_values(v.backbone.counts, *v.decomposition);

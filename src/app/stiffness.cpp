@@ -21,7 +21,6 @@
 #include "granpack/contact/derived_constants.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/io/report.h"
-#include "granpack/prep/material_law.h"
 #include "granpack/rigidity/condensation.h"
 #include "granpack/rigidity/mechanisms.h"
 #include "granpack/rigidity/virtual_work.h"
@@ -30,27 +29,22 @@ namespace granpack {
 
 namespace {
 
-/// The stress the file's packing was equilibrated under: the last compress stage up to the
-/// file's stage. After pressure_steps (whose level a file does not record) or with no such
-/// stage, the measured elastic stress, and `source` says so.
-template <int dim> Vec<dim> prescribed_stress(const PackingView<dim>& v, int stage_index, std::string& source) {
+/// The stress the file's packing was equilibrated under: its stress target (the last compress
+/// stage or pressure_steps level), on the axes it controlled; the measured elastic stress on
+/// fixed axes and without a target. `source` says which.
+template <int dim> Vec<dim> prescribed_stress(const PackingView<dim>& v, std::string& source) {
   Vec<dim> sigma = v.stress.diagonal();
-  source = "measured";
-  for (const auto& st : v.deck.stages) {
-    if (st.index > stage_index) break;
-    if (const auto* c = std::get_if<CompressStage>(&st.params)) {
-      bool all = true;  // every axis stress-controlled
-      for (int a = 0; a < dim; ++a)
-        if (!c->fixed.empty() && c->fixed[a]) all = false;
-      if (c->stress.size() == std::size_t(dim) && all) {
-        for (int a = 0; a < dim; ++a) sigma[a] = c->stress[a];
-        source = "deck stage " + std::to_string(st.index);
-      }
-    } else if (std::holds_alternative<PressureStepsStage>(st.params)) {
-      sigma = v.stress.diagonal();
-      source = "measured";
-    }
+  const StressTarget& t = v.stress_target;
+  if (!t.set()) {
+    source = "measured";
+    return sigma;
   }
+  bool any_fixed = false;
+  for (int a = 0; a < dim; ++a) {
+    if (t.fixed[a]) any_fixed = true;
+    else sigma[a] = t.stress[a];
+  }
+  source = "deck stage " + std::to_string(t.stage) + (any_fixed ? " (fixed axes measured)" : "");
   return sigma;
 }
 
@@ -97,8 +91,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const auto start = std::chrono::steady_clock::now();
   ensure_petsc_initialized();
   PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, 1.5);
-  const MaterialSpec& material = v.material;
-  const ContactLaw<dim> law = contact_law_of<dim>(material);
+  const ContactLaw<dim>& law = v.law;
   const bool cohesive = law.cohesion.has_value();
   // [GRC] App. A is a 2D construction; in 3D the rolling moment turns with the contact and
   // the divalent-grain modes change with distant pairs: refuse rather than get them wrong.
@@ -118,7 +111,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const int g = s.grain_dofs();
   const double volume = v.system.cell.volume();
   std::string stress_source;
-  const Vec<dim> sigma = prescribed_stress(v, meta.stage_index, stress_source);
+  const Vec<dim> sigma = prescribed_stress(v, stress_source);
   // With cohesion the forces are of order F0 whatever the pressure (0 at P* = 0): the
   // residual is relative to the contact forces then.
   const VirtualWork vw = check_virtual_work(s, sigma, volume, cohesive);
@@ -252,12 +245,12 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j.update(moduli_json(m, positive_definite));
   j["constitutive"] = moduli_json(m1, positive_definite);
   // eq. (30), Hertz monodisperse 3D only: the packing's own z = 2 N_c*/n, Phi and Z(5/3).
-  const auto& mat = v.material;
+  const auto& mat = v.contact_law;
   const double z = 2.0 * double(s.contacts) / double(v.n);
   const double z53 = z_five_thirds(v);
   j["z"] = z;
   j["Z_5_3"] = z53;
-  if (dim == 3 && mat.normal_law == "hertz" && v.deck.sample.distribution == "monodisperse") {
+  if (dim == 3 && mat.normal == NormalLawKind::kHertz && v.deck.sample.distribution == "monodisperse") {
     const double e_tilde = e_tilde_of(mat.young_modulus, mat.poisson_ratio);
     const double b30 = 1.0 / (2.0 * z53) * std::pow(z * v.phi / (3.0 * std::numbers::pi), 2.0 / 3.0) *
                        std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure);

@@ -573,21 +573,6 @@ Deck parse_deck(const std::string& text, const std::string& file_name) {
   return deck;
 }
 
-MaterialSpec material_after(const Deck& deck, int stage_index) {
-  MaterialSpec m = deck.material;
-  for (const auto& st : deck.stages) {
-    if (st.index > stage_index) break;
-    if (const auto* s = std::get_if<SetStage>(&st.params)) {
-      if (s->friction) m.friction = *s->friction;
-      if (s->damping) m.damping = *s->damping;
-    } else if (const auto* f = std::get_if<StiffenStage>(&st.params)) {
-      if (f->scale_rolling) m.rolling_stiffness *= f->normal_stiffness / m.normal_stiffness;
-      m.normal_stiffness = f->normal_stiffness;
-    }
-  }
-  return m;
-}
-
 std::string read_deck_text(const std::filesystem::path& path) {
   if (std::filesystem::is_directory(path))
     throw InputError(path.string() + ": is a directory, not a deck file");

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -133,13 +134,27 @@ Handle scalar_space(const FileContext& ctx) {
   return h5::dataspace_handle(ctx.id(H5Screate(H5S_SCALAR), "cannot create a dataspace"));
 }
 
+/// A numeric attribute of `space`'s shape (scalar, or 1-D for the stress target's per-axis values).
 template <class T>
-void write_attribute(const FileContext& ctx, hid_t obj, const char* name, T value) {
-  auto space = scalar_space(ctx);
+void write_attribute_values(const FileContext& ctx, hid_t obj, const char* name, const T* values,
+                            hid_t space) {
   auto attr = h5::attribute_handle(
       ctx.id(H5Acreate2(obj, name, file_type<T>(), space, H5P_DEFAULT, H5P_DEFAULT),
              std::string("cannot create attribute ") + name));
-  ctx.rc(H5Awrite(attr, mem_type<T>(), &value), std::string("cannot write attribute ") + name);
+  ctx.rc(H5Awrite(attr, mem_type<T>(), values), std::string("cannot write attribute ") + name);
+}
+
+template <class T>
+void write_attribute(const FileContext& ctx, hid_t obj, const char* name, T value) {
+  write_attribute_values(ctx, obj, name, &value, scalar_space(ctx));
+}
+
+template <class T>
+void write_attribute(const FileContext& ctx, hid_t obj, const char* name, const std::vector<T>& v) {
+  const hsize_t n = v.size();
+  auto space = h5::dataspace_handle(
+      ctx.id(H5Screate_simple(1, &n, nullptr), std::string("cannot create attribute ") + name));
+  write_attribute_values(ctx, obj, name, v.data(), space);
 }
 
 /// Variable-length UTF-8 string attribute (h5py reads it as str).
@@ -155,8 +170,9 @@ void write_attribute(const FileContext& ctx, hid_t obj, const char* name, const 
   ctx.rc(H5Awrite(attr, type, &p), std::string("cannot write attribute ") + name);
 }
 
+/// length: none for a single value, n for a 1-D array of n values.
 Handle open_attribute(const FileContext& ctx, hid_t obj, const std::string& where,
-                      const char* name) {
+                      const char* name, std::optional<std::size_t> length = std::nullopt) {
   const htri_t exists = H5Aexists(obj, name);
   if (exists < 0)
     ctx.fail("cannot look up attribute " + where + name, true);
@@ -166,21 +182,31 @@ Handle open_attribute(const FileContext& ctx, hid_t obj, const std::string& wher
       ctx.id(H5Aopen(obj, name, H5P_DEFAULT), "cannot open attribute " + where + name));
   auto space =
       h5::dataspace_handle(ctx.id(H5Aget_space(attr), "cannot read attribute " + where + name));
-  if (H5Sget_simple_extent_npoints(space) != 1)
+  if (!length && H5Sget_simple_extent_npoints(space) != 1)
     ctx.fail("attribute " + where + name + " is not a single value");
+  if (length && (H5Sget_simple_extent_ndims(space) != 1 ||
+                 H5Sget_simple_extent_npoints(space) != static_cast<hssize_t>(*length)))
+    ctx.fail("attribute " + where + name + " is not an array of " + std::to_string(*length) +
+             " values");
   return attr;
 }
 
 template <class T>
-T read_attribute(const FileContext& ctx, hid_t obj, const std::string& where, const char* name) {
-  auto attr = open_attribute(ctx, obj, where, name);
+std::vector<T> read_attribute_values(const FileContext& ctx, hid_t obj, const std::string& where,
+                                     const char* name, std::optional<std::size_t> length) {
+  auto attr = open_attribute(ctx, obj, where, name, length);
   auto type =
       h5::datatype_handle(ctx.id(H5Aget_type(attr), "cannot read attribute " + where + name));
   if (H5Tget_class(type) != type_class<T>())
     ctx.fail("attribute " + where + name + " is not " + type_name<T>());
-  T value{};
-  ctx.rc(H5Aread(attr, mem_type<T>(), &value), "cannot read attribute " + where + name);
-  return value;
+  std::vector<T> values(length.value_or(1));
+  ctx.rc(H5Aread(attr, mem_type<T>(), values.data()), "cannot read attribute " + where + name);
+  return values;
+}
+
+template <class T>
+T read_attribute(const FileContext& ctx, hid_t obj, const std::string& where, const char* name) {
+  return read_attribute_values<T>(ctx, obj, where, name, std::nullopt)[0];
 }
 
 /// Deflate, the strongest filter HDF5 ships, compresses at most about 1032:1.
@@ -433,6 +459,90 @@ template <class V> V row(const std::vector<double>& flat, std::size_t i) {
 }
 
 // ----------------------------------------------------------------------------------------
+// /parameters: the contact law and stress target in force (io/state_parameters.h)
+
+const char* normal_law_name(NormalLawKind k) {
+  return k == NormalLawKind::kHertz ? "hertz" : "linear";
+}
+const char* tangential_law_name(TangentialStiffnessKind k) {
+  return k == TangentialStiffnessKind::kMindlin ? "mindlin"
+         : k == TangentialStiffnessKind::kRatio ? "ratio"
+                                                : "constant";
+}
+
+/// The numeric attributes of /parameters that hold a contact-law parameter, with its member.
+constexpr std::pair<const char*, double ContactLawParams::*> kLawNumbers[] = {
+    {"young_modulus", &ContactLawParams::young_modulus},
+    {"poisson_ratio", &ContactLawParams::poisson_ratio},
+    {"normal_stiffness", &ContactLawParams::k_n},
+    {"tangential_stiffness", &ContactLawParams::k_t},
+    {"tangential_stiffness_ratio", &ContactLawParams::k_t_ratio},
+    {"damping", &ContactLawParams::damping_ratio},
+    {"friction", &ContactLawParams::friction},
+    {"cohesion_force", &ContactLawParams::cohesion_force},
+    {"cohesion_range", &ContactLawParams::cohesion_range},
+    {"rolling_stiffness", &ContactLawParams::rolling_stiffness},
+    {"rolling_friction", &ContactLawParams::rolling_friction},
+    {"rolling_damping", &ContactLawParams::rolling_damping}};
+
+/// Collective (attributes: every rank passes the same values).
+void write_parameters(const FileContext& ctx, hid_t file, const StateParameters& p, int dim) {
+  auto g = group_create(ctx, file, "parameters");
+  const ContactLawParams& law = p.contact_law;
+  write_attribute(ctx, g, "normal_law", std::string(normal_law_name(law.normal)));
+  write_attribute(ctx, g, "tangential_law", std::string(tangential_law_name(law.tangential)));
+  write_attribute(ctx, g, "walton_rescaling", law.walton_rescaling ? 1 : 0);
+  for (const auto& [name, member] : kLawNumbers) write_attribute(ctx, g, name, law.*member);
+  const StressTarget& t = p.stress_target;
+  std::vector<double> stress(dim, 0.0);
+  std::vector<int> fixed(dim, 0);
+  if (t.set()) {
+    if (t.stress.size() != std::size_t(dim) || t.fixed.size() != std::size_t(dim))
+      ctx.fail("the stress target has " + std::to_string(t.stress.size()) + " stresses and " +
+               std::to_string(t.fixed.size()) + " fixed-axis flags for " + std::to_string(dim) +
+               " axes");
+    stress = t.stress;
+    for (int a = 0; a < dim; ++a) fixed[a] = t.fixed[a] ? 1 : 0;
+  }
+  write_attribute(ctx, g, "stress_target_stage", t.stage);
+  write_attribute(ctx, g, "stress_target", stress);
+  write_attribute(ctx, g, "fixed_axes", fixed);
+  write_attribute(ctx, g, "pressure_target", t.set() ? t.pressure : 0.0);
+}
+
+/// Not collective (metadata reads only).
+StateParameters read_parameters(const FileContext& ctx, hid_t file, int dim) {
+  auto g = group_open(ctx, file, "parameters");
+  const std::string where = "/parameters/";
+  auto number = [&](const char* name) { return read_attribute<double>(ctx, g, where, name); };
+  StateParameters p;
+  ContactLawParams& law = p.contact_law;
+  const std::string normal = read_string_attribute(ctx, g, where, "normal_law");
+  if (normal == "hertz") law.normal = NormalLawKind::kHertz;
+  else if (normal == "linear") law.normal = NormalLawKind::kLinear;
+  else ctx.fail("attribute " + where + "normal_law = '" + normal + "' (hertz or linear)");
+  const std::string tangential = read_string_attribute(ctx, g, where, "tangential_law");
+  if (tangential == "mindlin") law.tangential = TangentialStiffnessKind::kMindlin;
+  else if (tangential == "ratio") law.tangential = TangentialStiffnessKind::kRatio;
+  else if (tangential == "constant") law.tangential = TangentialStiffnessKind::kConstant;
+  else ctx.fail("attribute " + where + "tangential_law = '" + tangential + "' (mindlin, ratio or constant)");
+  law.walton_rescaling = read_attribute<int>(ctx, g, where, "walton_rescaling") != 0;
+  for (const auto& [name, member] : kLawNumbers) law.*member = number(name);
+  StressTarget& t = p.stress_target;
+  t.stage = read_attribute<int>(ctx, g, where, "stress_target_stage");
+  const auto stress = read_attribute_values<double>(ctx, g, where, "stress_target", dim);
+  const auto fixed = read_attribute_values<int>(ctx, g, where, "fixed_axes", dim);
+  const double pressure = number("pressure_target");
+  if (t.stage < -1) ctx.fail("attribute " + where + "stress_target_stage is below -1");
+  if (t.set()) {
+    t.stress = stress;
+    for (int f : fixed) t.fixed.push_back(f != 0);
+    t.pressure = pressure;
+  }
+  return p;
+}
+
+// ----------------------------------------------------------------------------------------
 // Files
 
 Handle mpio_fapl(const FileContext& ctx, MPI_Comm comm) {
@@ -502,7 +612,7 @@ void write_text_dataset(const FileContext& ctx, hid_t file, MPI_Comm comm, const
   }
 }
 
-/// Not collective (metadata reads only). Root attributes and /deck.
+/// Not collective (metadata reads only). Root attributes, /deck, /run_state, /parameters.
 FileMeta read_meta(const FileContext& ctx, hid_t file) {
   const std::string root = "/";
   const htri_t has_format = H5Aexists(file, "format");
@@ -546,6 +656,10 @@ FileMeta read_meta(const FileContext& ctx, hid_t file) {
         ctx.id(H5Dopen2(file, "run_state", H5P_DEFAULT), "cannot open dataset /run_state"));
     m.run_state = read_string(ctx, state, false, "dataset /run_state");
   }
+  // /parameters: absent from files written before it existed.
+  const htri_t has_parameters = H5Lexists(file, "parameters", H5P_DEFAULT);
+  if (has_parameters < 0) ctx.fail("cannot look up group /parameters", true);
+  if (has_parameters > 0) m.parameters = read_parameters(ctx, file, m.dimension);
   return m;
 }
 
@@ -621,6 +735,7 @@ void write_file(MPI_Comm comm, const FileContext& ctx, const Configuration<dim>&
   // /deck (and /run_state in checkpoints): scalar fixed-length strings.
   write_text_dataset(ctx, file, comm, "deck", m.deck_text);
   if (!m.run_state.empty()) write_text_dataset(ctx, file, comm, "run_state", m.run_state);
+  if (m.parameters) write_parameters(ctx, file, *m.parameters, dim);
 
   {
     auto g = group_create(ctx, file, "cell");

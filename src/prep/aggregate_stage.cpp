@@ -60,7 +60,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
   const auto& sample = ctx.deck->sample;
-  const MaterialSpec& mat = ctx.material;
+  const ContactLawParams& mat = ctx.contact_law;
   const double a = sample.diameter;
   if (!(mat.cohesion_force > 0))
     throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) +
@@ -74,7 +74,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
   MdSettings<dim> s = deck_md_settings(ctx);
   // The force scale of the contacts is F0 (P* << 1): time step from a contact loaded by ~5 F0.
   s.dt = ctx.deck->numerics.time_step_fraction *
-         contact_duration(mat, sample, dim, f0 / grain_section(dim, a));
+         contact_duration(mat, ctx.deck->material.density, sample, dim, f0 / grain_section(dim, a));
   s.stress_control = false;
   for (int k = 0; k < dim; ++k) s.cell.fixed[k] = true;  // no stress criterion either
 
@@ -112,7 +112,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
                           {"quenches", quenches},
                           {"one_cluster_step", one_cluster_step}};
   });
-  MdEngine<dim> engine(ctx, contact_law_of<dim>(mat), s);
+  MdEngine<dim> engine(ctx, make_contact_law<dim>(mat), s);
   const EquilibriumScales scales = EquilibriumScales::of(dim, a, 0.0, f0);
   const bool with_moment = g.tolerance.checks_moment();
   EquilibriumMeasure m = engine.measure(scales, with_moment);

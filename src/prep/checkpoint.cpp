@@ -65,7 +65,8 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
   GRANPACK_CHECK(ctx.decomposition, "a checkpoint needs a sample");
   const auto t0 = std::chrono::steady_clock::now();
   nlohmann::json st;
-  st["format"] = 1;
+  // Format 2: the contact law and stress target are in /parameters (write_state), not here.
+  st["format"] = 2;
   st["stage_index"] = mid_stage ? ctx.stage_index : ctx.stage_index + 1;
   st["mid_stage"] = mid_stage;
   int size = 1;
@@ -75,14 +76,6 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
   st["completed"] = nlohmann::json::array();
   if (completed)
     for (const auto& r : *completed) st["completed"].push_back(nlohmann::json::parse(stage_report_json(r)));
-  st["friction"] = exact(ctx.material.friction);
-  st["damping"] = exact(ctx.material.damping);
-  st["normal_stiffness"] = exact(ctx.material.normal_stiffness);
-  st["rolling_stiffness"] = exact(ctx.material.rolling_stiffness);
-  st["stress"] = nlohmann::json::array();
-  for (double s : ctx.stress) st["stress"].push_back(exact(s));
-  st["fixed"] = ctx.fixed;
-  st["pressure"] = exact(ctx.pressure);
   st["frames"] = nlohmann::json::array();
   if (mid_stage)
     for (const auto& f : ctx.frames) st["frames"].push_back(f());
@@ -104,20 +97,24 @@ RunState parse_run_state(const std::string& text, const std::string& file) {
   RunState s;
   try {
     const auto j = nlohmann::json::parse(text);
-    if (j.at("format").get<int>() != 1) throw std::invalid_argument("unknown run_state format");
+    const int format = j.at("format").get<int>();
+    if (format != 1 && format != 2) throw std::invalid_argument("unknown run_state format");
     s.stage_index = j.at("stage_index").get<int>();
     s.mid_stage = j.at("mid_stage").get<bool>();
     s.ranks = j.at("ranks").get<int>();
     s.grid = j.at("grid").get<std::vector<int>>();
     for (const auto& r : j.at("completed")) s.completed.push_back(stage_report_from_json(r.dump()));
-    s.friction = exact_double(j.at("friction"));
-    s.damping = exact_double(j.at("damping"));
-    // Written since the stiffen stage (checkpoints of older versions: the deck's values).
-    if (j.contains("normal_stiffness")) s.normal_stiffness = exact_double(j.at("normal_stiffness"));
-    if (j.contains("rolling_stiffness")) s.rolling_stiffness = exact_double(j.at("rolling_stiffness"));
-    for (const auto& v : j.at("stress")) s.stress.push_back(exact_double(v));
-    s.fixed = j.at("fixed").get<std::vector<bool>>();
-    s.pressure = exact_double(j.at("pressure"));
+    if (format == 1) {
+      RunState::Legacy& l = s.legacy.emplace();
+      l.friction = exact_double(j.at("friction"));
+      l.damping = exact_double(j.at("damping"));
+      // Written since the stiffen stage (checkpoints of older versions: the deck's values).
+      if (j.contains("normal_stiffness")) l.normal_stiffness = exact_double(j.at("normal_stiffness"));
+      if (j.contains("rolling_stiffness")) l.rolling_stiffness = exact_double(j.at("rolling_stiffness"));
+      for (const auto& v : j.at("stress")) l.stress.push_back(exact_double(v));
+      l.fixed = j.at("fixed").get<std::vector<bool>>();
+      l.pressure = exact_double(j.at("pressure"));
+    }
     for (const auto& f : j.at("frames")) s.frames.push_back(f);
     s.wall_seconds = j.at("wall_seconds").get<double>();
   } catch (const InputError&) {
@@ -127,6 +124,29 @@ RunState parse_run_state(const std::string& text, const std::string& file) {
   }
   if (s.stage_index < 0) throw InputError(file + ": /run_state has a negative stage_index");
   return s;
+}
+
+StateParameters legacy_parameters(const RunState& state, const Deck& deck) {
+  GRANPACK_CHECK(state.legacy, "legacy_parameters: the run state is not of format 1");
+  const RunState::Legacy& l = *state.legacy;
+  MaterialSpec m = deck.material;
+  m.friction = l.friction;
+  m.damping = l.damping;
+  if (l.normal_stiffness) m.normal_stiffness = *l.normal_stiffness;
+  if (l.rolling_stiffness) m.rolling_stiffness = *l.rolling_stiffness;
+  StressTarget t;
+  if (!l.stress.empty()) {
+    // A compress stage sets the target when it ends; pressure_steps at each level's end.
+    for (const auto& st : deck.stages)
+      if ((st.kind == "compress" && st.index < state.stage_index) ||
+          (st.kind == "pressure_steps" && st.index <= state.stage_index))
+        t.stage = st.index;
+    t.stage = std::max(t.stage, 0);
+    t.stress = l.stress;
+    t.fixed = l.fixed;
+    t.pressure = l.pressure;
+  }
+  return {contact_law_params(m), t};
 }
 
 void check_restart_deck(const Deck& original, const Deck& now, const RunState& state,

@@ -48,11 +48,12 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index
                                              << " (compress): there is no sample yet");
 
-  const double f0 = ctx.material.cohesion_force;
+  const double f0 = ctx.contact_law.cohesion_force;
   MdSettings<dim> s = deck_md_settings(ctx);
   // The time step: contacts loaded by 5 a^2 P, or by 5 F0 under P* = 0 ([GRC] relaxation).
   const double load = P > 0 ? P : f0 / grain_section(dim, a);
-  s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, load);
+  s.dt = ctx.deck->numerics.time_step_fraction *
+         contact_duration(ctx.contact_law, ctx.deck->material.density, sample, dim, load);
   s.stress_control = true;
   s.cell = cell_control_of(ctx, c);
   // Inertia number I = eps_dot sqrt(m / (a P)) (eq. 23) of the strain rate reached; none at P = 0.
@@ -60,24 +61,24 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
 
   // kappa = K_N/P (or (E~/P)^(2/3)) is undefined at P = 0; [GRC]'s a K_N / F0 is logged.
   const std::optional<double> kappa =
-      P > 0 ? std::optional<double>(stiffness_number(ctx.material, sample, dim, P)) : std::nullopt;
+      P > 0 ? std::optional<double>(stiffness_number(ctx.contact_law, sample, dim, P)) : std::nullopt;
   {
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "  P = %.6g Pa, kappa = %.6g, mu = %g, zeta = %g, I_max = %s, strain rate max = %s, "
                   "M = %g x grain mass%s, dt = %.4g s",
-                  P, kappa.value_or(std::numeric_limits<double>::infinity()), ctx.material.friction, ctx.material.damping,
+                  P, kappa.value_or(std::numeric_limits<double>::infinity()), ctx.contact_law.friction, ctx.contact_law.damping_ratio,
                   c.inertia_max ? std::to_string(*c.inertia_max).c_str() : "none",
                   std::isfinite(s.cell.max_strain_rate) ? (std::to_string(s.cell.max_strain_rate) + " 1/s").c_str()
                                                         : "none",
                   c.cell_mass,
                   c.cell_mass_per_length ? " x a/L0" : "", s.dt);
     ctx.log->info(buf);
-    const MaterialSpec& mat = ctx.material;
+    const ContactLawParams& mat = ctx.contact_law;
     if (mat.cohesion_force > 0) {
       // [GRC] sec. II C: P* = P a^(dim-1) / F0 and kappa = a K_N / F0 (Hertz: (E a^2/F0)^(2/3)).
-      const double kappa_f0 = mat.normal_law == "linear"
-                                  ? a * mat.normal_stiffness / f0
+      const double kappa_f0 = mat.normal == NormalLawKind::kLinear
+                                  ? a * mat.k_n / f0
                                   : std::pow(mat.young_modulus * a * a / f0, 2.0 / 3.0);
       std::snprintf(buf, sizeof buf,
                     "  cohesion: F0 = %.6g N, D0/a = %.3g, P* = %.6g, kappa = a K_N/F0 = %.6g, "
@@ -97,10 +98,10 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
 
   // [AR] sec. III scales (a^2 P, P, P a^3), or [GRC] II D's built on F1 = max(F0, P a).
   const EquilibriumScales scales =
-      EquilibriumScales::of(dim, a, P, ctx.material.cohesion_force);
+      EquilibriumScales::of(dim, a, P, ctx.contact_law.cohesion_force);
   const double force_scale = scales.force;
   const bool with_moment = c.tolerance.checks_moment();
-  const bool cohesive = ctx.material.cohesion_force > 0;
+  const bool cohesive = ctx.contact_law.cohesion_force > 0;
   const std::int64_t check_every = 50;
   const std::int64_t log_every = ctx.deck->output.log_every;
   std::int64_t first_step = ctx.system.step;
@@ -129,7 +130,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
                           {"quenches", quenches},
                           {"cell_mass", exact(s.cell.mass)}};
   });
-  MdEngine<dim> engine(ctx, contact_law_of<dim>(ctx.material), s);
+  MdEngine<dim> engine(ctx, make_contact_law<dim>(ctx.contact_law), s);
   EquilibriumMeasure m = engine.measure(scales, with_moment);
   auto last_log = clock::now();
   std::int64_t last_log_step = ctx.system.step;
@@ -195,7 +196,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, ctx.solid_fraction(), m,
                                   engine.observables().contacts, 0.0, cohesive, with_moment));
 
-  const int min_contacts = min_backbone_contacts(dim, ctx.material.friction);
+  const int min_contacts = min_backbone_contacts(dim, ctx.contact_law.friction);
   const StateMetrics sm = state_metrics(ctx, engine, c.tolerance.force * force_scale, min_contacts);
   StageReport r;
   r.steps = ctx.system.step - first_step;
@@ -225,9 +226,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
                   cc.z, cc.z_plus, cc.z_minus, cc.z_zero, 100 * cc.distant_fraction);
     ctx.log->info(buf);
   }
-  ctx.stress = c.stress;
-  ctx.fixed = c.fixed;
-  ctx.pressure = P;
+  ctx.stress_target = StressTarget{ctx.stage_index, c.stress, c.fixed, P};
   {
     char buf[320];
     std::snprintf(buf, sizeof buf,

@@ -61,7 +61,7 @@ std::vector<GlobalId> all_ids(MPI_Comm comm, const std::vector<GlobalId>& mine) 
 }  // namespace
 
 template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixRattlersStage& f) {
-  const double P = f.pressure ? *f.pressure : ctx.pressure;
+  const double P = f.pressure ? *f.pressure : ctx.stress_target.pressure;
   GRANPACK_CHECK(ctx.decomposition && P > 0,
                  "stage " << ctx.stage_index << " (" << ctx.stage_name
                           << ") needs an equilibrated packing from a compress stage");
@@ -69,10 +69,11 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
   const double a = sample.diameter;
   const double force_scale = pressure_force(dim, a, P);
   const double push = f.force * force_scale;
-  const int min_contacts = min_backbone_contacts(dim, ctx.material.friction);
+  const int min_contacts = min_backbone_contacts(dim, ctx.contact_law.friction);
 
   MdSettings<dim> s = deck_md_settings(ctx);
-  s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, P);
+  s.dt = ctx.deck->numerics.time_step_fraction *
+         contact_duration(ctx.contact_law, ctx.deck->material.density, sample, dim, P);
   s.stress_control = false;
 
   // Restart inside this stage: the rattlers found when it began and the loop's counters.
@@ -96,7 +97,7 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
                             << "): the checkpoint's rattler ids are not sorted and unique");
   } else {
     // 1. The rattlers of the current state, by the rule of the compress stages.
-    MdEngine<dim> engine(ctx, contact_law_of<dim>(ctx.material), s);
+    MdEngine<dim> engine(ctx, make_contact_law<dim>(ctx.contact_law), s);
     std::vector<CarryingContact> carrying;
     const double threshold = 1e-4 * force_scale;  // [AR] force tolerance
     engine.for_each_contact([&](std::size_t i, std::size_t j, const Vec<dim>&,
@@ -125,7 +126,7 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
   };
 
   // 2. Frictionless MD of the rattlers alone, pushed by their random forces.
-  MaterialSpec frictionless = ctx.material;
+  ContactLawParams frictionless = ctx.contact_law;
   frictionless.friction = 0;
   s.mobile = &rattlers;
   // The pushes, drawn once per rattler (in the order of the sorted ids), not at every step.
@@ -148,7 +149,7 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
                           {"ek", exact(ek)}};
   });
   // On a mid-step restart the engine's constructor completes the interrupted step.
-  MdEngine<dim> engine(ctx, contact_law_of<dim>(frictionless), s);
+  MdEngine<dim> engine(ctx, make_contact_law<dim>(frictionless), s);
   auto& p = ctx.system.particles;
   const double ek_limit = f.tolerance * f.tolerance * push * a;
   std::ostringstream head;

@@ -35,7 +35,7 @@ template <int dim> StageReport run_lattice(RunContext<dim>& ctx, const LatticeSt
   ctx.system.cell.rate.setZero();
   ctx.decomposition = std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
 
-  const double mass = HomogeneousGrain<dim>::mass(ctx.material.density, a);
+  const double mass = HomogeneousGrain<dim>::mass(ctx.deck->material.density, a);
   const double inertia = HomogeneousGrain<dim>::inertia(mass, a);
   std::int64_t total = 1;
   for (auto c : p.cells) total *= c;

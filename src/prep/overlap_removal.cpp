@@ -15,22 +15,22 @@ namespace granpack {
 
 template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx) {
   const auto& sample = ctx.deck->sample;
-  MaterialSpec soft;
-  soft.density = ctx.material.density;
-  soft.normal_law = "linear";
-  soft.normal_stiffness = 1.0;  // the quench makes the result independent of its value
-  soft.tangential_stiffness_ratio = 0.0;
+  ContactLawParams soft;
+  soft.normal = NormalLawKind::kLinear;
+  soft.k_n = 1.0;  // the quench makes the result independent of its value
+  soft.tangential = TangentialStiffnessKind::kRatio;
+  soft.k_t_ratio = 0.0;
   soft.friction = 0.0;
-  soft.damping = 0.0;
+  soft.damping_ratio = 0.0;
   MdSettings<dim> s;
   // dt^2 K / m* = 0.4: each step removes a large fraction of an isolated overlap, stably.
-  s.dt = 0.2 * contact_duration(soft, sample, dim, 1.0);
+  s.dt = 0.2 * contact_duration(soft, ctx.deck->material.density, sample, dim, 1.0);
   s.skin = 0.2 * sample.diameter;
   s.stress_control = false;
   s.max_overlap = std::numeric_limits<double>::infinity();  // removing them is the point
   // Deep overlaps push grains far in one step; velocities are quenched after every step.
   s.max_step_displacement = std::numeric_limits<double>::infinity();
-  MdEngine<dim> engine(ctx, contact_law_of<dim>(soft), s);
+  MdEngine<dim> engine(ctx, make_contact_law<dim>(soft), s);
   const double target = 1e-9;  // largest overlap / radius accepted
   const std::int64_t max_steps = 1000000;
   std::int64_t steps = 0;

@@ -13,9 +13,9 @@
 namespace granpack {
 
 template <int dim> StageReport run_pressure_steps(RunContext<dim>& ctx, const PressureStepsStage& ps) {
-  std::vector<double> stress0 = ctx.stress;
-  const std::vector<bool> fixed0 = ctx.fixed;
-  double p0 = ctx.pressure;
+  std::vector<double> stress0 = ctx.stress_target.stress;
+  const std::vector<bool> fixed0 = ctx.stress_target.fixed;
+  double p0 = ctx.stress_target.pressure;
   StageReport r;
   std::int64_t k = 1;
   // Restart inside this stage: the levels done so far; the level in progress resumes in

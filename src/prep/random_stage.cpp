@@ -57,7 +57,7 @@ template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStag
     q.id = k;
     const double d = diameter[static_cast<std::size_t>(k)];
     q.radius = 0.5 * d;
-    q.mass = HomogeneousGrain<dim>::mass(ctx.material.density, d);
+    q.mass = HomogeneousGrain<dim>::mass(ctx.deck->material.density, d);
     q.inertia = HomogeneousGrain<dim>::inertia(q.mass, d);
     q.position = s;
     ctx.system.particles.add_owned(q);

@@ -1,4 +1,4 @@
-// `set` stage: change material parameters between stages (e.g. friction 0 -> 0.3, [AR] C).
+// `set` stage: change the contact law between stages (e.g. friction 0 -> 0.3, [AR] C).
 #include <sstream>
 
 #include "granpack/prep/stages.h"
@@ -9,12 +9,12 @@ template <int dim> StageReport run_set(RunContext<dim>& ctx, const SetStage& p) 
   std::ostringstream os;
   os << "  set:";
   if (p.friction) {
-    os << " friction " << ctx.material.friction << " -> " << *p.friction;
-    ctx.material.friction = *p.friction;
+    os << " friction " << ctx.contact_law.friction << " -> " << *p.friction;
+    ctx.contact_law.friction = *p.friction;
   }
   if (p.damping) {
-    os << " damping " << ctx.material.damping << " -> " << *p.damping;
-    ctx.material.damping = *p.damping;
+    os << " damping " << ctx.contact_law.damping_ratio << " -> " << *p.damping;
+    ctx.contact_law.damping_ratio = *p.damping;
   }
   ctx.log->info(os.str());
   return StageReport{};

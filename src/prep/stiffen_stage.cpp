@@ -26,14 +26,14 @@ template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenSt
   const auto& sample = ctx.deck->sample;
   const double a = sample.diameter;
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index << " (stiffen): there is no sample yet");
-  if (ctx.material.normal_law != "linear")
+  if (ctx.contact_law.normal != NormalLawKind::kLinear)
     throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) +
                      "] (stiffen) needs [material] normal_law = \"linear\" (it ramps K_N)");
 
   const nlohmann::json resume = ctx.take_resume_frame();
   std::int64_t first_step = ctx.system.step;
   double first_time = ctx.system.time;
-  double k_start = ctx.material.normal_stiffness, kr_start = ctx.material.rolling_stiffness;
+  double k_start = ctx.contact_law.k_n, kr_start = ctx.contact_law.rolling_stiffness;
   std::int64_t increment = 0;
   double cell_mass = 0;
   const bool resuming = !resume.is_null();
@@ -47,8 +47,8 @@ template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenSt
   }
   const double ratio = g.normal_stiffness / k_start;
   const std::int64_t per = std::max<std::int64_t>(1, g.steps / g.increments);
-  const double f0 = ctx.material.cohesion_force;
-  auto kappa_of = [&](double k) { return f0 > 0 ? a * k / f0 : stiffness_number(ctx.material, sample, dim, ctx.pressure); };
+  const double f0 = ctx.contact_law.cohesion_force;
+  auto kappa_of = [&](double k) { return f0 > 0 ? a * k / f0 : stiffness_number(ctx.contact_law, sample, dim, ctx.stress_target.pressure); };
   {
     char buf[256];
     std::snprintf(buf, sizeof buf,
@@ -75,10 +75,11 @@ template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenSt
   std::int64_t last_log_step = ctx.system.step;
   for (; increment < g.increments; ++increment) {
     const double f = std::pow(ratio, double(increment + 1) / double(g.increments));
-    ctx.material.normal_stiffness = k_start * f;
-    if (g.scale_rolling) ctx.material.rolling_stiffness = kr_start * f;
-    s.dt = ctx.deck->numerics.time_step_fraction * contact_duration(ctx.material, sample, dim, load);
-    MdEngine<dim> engine(ctx, contact_law_of<dim>(ctx.material), s);
+    ctx.contact_law.k_n = k_start * f;
+    if (g.scale_rolling) ctx.contact_law.rolling_stiffness = kr_start * f;
+    s.dt = ctx.deck->numerics.time_step_fraction *
+           contact_duration(ctx.contact_law, ctx.deck->material.density, sample, dim, load);
+    MdEngine<dim> engine(ctx, make_contact_law<dim>(ctx.contact_law), s);
     const std::int64_t end = first_step + (increment + 1 == g.increments ? g.steps : (increment + 1) * per);
     while (ctx.system.step < end) engine.step();
     const auto now = clock::now();
@@ -89,7 +90,7 @@ template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenSt
                     "  increment %lld/%lld: K_N %.4g N/m (kappa %.4g), phi %.5f, P %.4g Pa, contacts "
                     "%lld, Ek %.3e J, %.0f steps/s",
                     static_cast<long long>(increment + 1), static_cast<long long>(g.increments),
-                    ctx.material.normal_stiffness, kappa_of(ctx.material.normal_stiffness),
+                    ctx.contact_law.k_n, kappa_of(ctx.contact_law.k_n),
                     ctx.solid_fraction(), engine.observables().stress_elastic.trace() / dim,
                     static_cast<long long>(engine.observables().contacts),
                     engine.observables().kinetic_energy,
@@ -104,10 +105,10 @@ template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenSt
   r.time = ctx.system.time - first_time;
   r.phi = ctx.solid_fraction();
   r.values = {{"normal_stiffness_start", k_start},
-              {"normal_stiffness", ctx.material.normal_stiffness},
-              {"rolling_stiffness", ctx.material.rolling_stiffness},
+              {"normal_stiffness", ctx.contact_law.k_n},
+              {"rolling_stiffness", ctx.contact_law.rolling_stiffness},
               {"kappa_start", kappa_of(k_start)},
-              {"kappa", kappa_of(ctx.material.normal_stiffness)}};
+              {"kappa", kappa_of(ctx.contact_law.k_n)}};
   r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
   return r;
 }

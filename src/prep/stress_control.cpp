@@ -10,7 +10,7 @@
 namespace granpack {
 
 template <int dim> double reference_grain_mass(const RunContext<dim>& ctx) {
-  return HomogeneousGrain<dim>::mass(ctx.material.density, ctx.deck->sample.diameter);
+  return HomogeneousGrain<dim>::mass(ctx.deck->material.density, ctx.deck->sample.diameter);
 }
 
 template <int dim> CellControl<dim> cell_control_of(RunContext<dim>& ctx, const CompressStage& c) {

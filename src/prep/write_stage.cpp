@@ -1,16 +1,10 @@
 // `write` stage and the shared writer of configuration files.
 
-#include <algorithm>
-
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/prep/stages.h"
 
 namespace granpack {
-
-bool stage_implemented(const std::string& kind) {
-  return std::find(stage_kinds().begin(), stage_kinds().end(), kind) != stage_kinds().end();
-}
 
 template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
                                     const std::string& run_state) {
@@ -31,6 +25,7 @@ template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem:
   c.meta.deck_text = ctx.deck->text;
   c.meta.kind = run_state.empty() ? "configuration" : "checkpoint";
   c.meta.run_state = run_state;
+  c.meta.parameters = ctx.parameters();
   write_configuration<dim>(ctx.world, file, c);
 }
 

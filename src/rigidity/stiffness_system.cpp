@@ -93,7 +93,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   const auto& p = v.particles();
   StiffnessSystem<dim> s;
   s.comm = v.world;
-  s.layout.rotations = v.friction > 0;
+  s.layout.rotations = law.friction.mu > 0;
   s.layout.rolling = s.layout.rotations && law.rolling.has_value();
   s.layout.ell = 0.5 * v.diameter;
   s.layout.cell = v.system.cell.length;

@@ -500,6 +500,12 @@ template <int dim> void write_seed_file(const fs::path& path, int n, std::uint64
   }
   c.meta.stage_name = "seed";
   c.meta.deck_text = "[sample]\ndimension = " + std::to_string(dim) + "\n";
+  StateParameters params;  // so that the reader of /parameters is fuzzed too
+  params.contact_law.young_modulus = 7e10;
+  params.contact_law.poisson_ratio = 0.3;
+  params.contact_law.friction = 0.3;
+  params.stress_target = StressTarget{2, std::vector<double>(dim, 1e4), std::vector<bool>(dim, false), 1e4};
+  c.meta.parameters = params;
   write_configuration<dim>(MPI_COMM_SELF, path, c);
 }
 

@@ -140,3 +140,98 @@ TEST(CheckpointState, RunStateDifferingBetweenRanksLeavesAValidFile) {
 
 }  // namespace
 }  // namespace granpack
+
+namespace granpack {
+namespace {
+
+/// A few grains on each rank and one contact, for files written by the tests below.
+Configuration<3> small_configuration(int rank) {
+  Configuration<3> c;
+  c.cell.length = Vec<3>::Constant(1e-2);
+  c.cell.rate = Vec<3>::Zero();
+  for (GlobalId k = 0; k < 2; ++k) {
+    Particle<3> p;
+    p.id = 2 * rank + k;
+    p.radius = 5e-4;
+    p.mass = 1e-6;
+    p.inertia = 1e-13;
+    p.position = Vec<3>::Constant(0.1 + 0.3 * double(k));
+    c.particles.add_owned(p);
+  }
+  c.contacts.insert(ContactKey{2 * rank, 2 * rank + 1}, ContactState<3>{});
+  c.meta.deck_text = kDeck;
+  return c;
+}
+
+// Every file a run writes carries the contact law and stress target in force (/parameters):
+// they come back exactly, inf included, on any reader; a file without the group reads as one.
+TEST(CheckpointState, ParametersRoundTripBitForBit) {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  StateParameters p;
+  p.contact_law.normal = NormalLawKind::kLinear;
+  p.contact_law.k_n = 1.2345678901234567e7;
+  p.contact_law.tangential = TangentialStiffnessKind::kRatio;
+  p.contact_law.k_t_ratio = 0.7;
+  p.contact_law.walton_rescaling = false;
+  p.contact_law.damping_ratio = 0.98;
+  p.contact_law.friction = std::numeric_limits<double>::infinity();
+  p.contact_law.cohesion_force = 1.0;
+  p.contact_law.cohesion_range = 1e-6;
+  p.contact_law.rolling_stiffness = 1e-3;
+  p.contact_law.rolling_friction = 5e-6;
+  p.contact_law.rolling_damping = 0.8;
+  p.stress_target = StressTarget{4, {10.0, 0.1 + 0.2, 30.0}, {false, true, false}, 20.0};
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::filesystem::path with = dir / "granpack_parameters_test.h5", without = dir / "granpack_no_parameters_test.h5",
+                              unset = dir / "granpack_unset_target_test.h5";
+  Configuration<3> c = small_configuration(rank);
+  c.meta.parameters = p;
+  write_configuration<3>(MPI_COMM_WORLD, with, c);
+  c.meta.parameters->stress_target = StressTarget{};
+  write_configuration<3>(MPI_COMM_WORLD, unset, c);
+  c.meta.parameters.reset();
+  write_configuration<3>(MPI_COMM_WORLD, without, c);
+
+  const FileMeta meta = read_file_meta(MPI_COMM_SELF, with);
+  ASSERT_TRUE(meta.parameters);
+  EXPECT_TRUE(*meta.parameters == p);
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(meta.parameters->contact_law.k_n), std::bit_cast<std::uint64_t>(p.contact_law.k_n));
+  EXPECT_TRUE(read_configuration<3>(MPI_COMM_WORLD, with).meta.parameters == p);
+  const FileMeta none = read_file_meta(MPI_COMM_SELF, unset);
+  ASSERT_TRUE(none.parameters);
+  EXPECT_FALSE(none.parameters->stress_target.set());
+  EXPECT_TRUE(none.parameters->stress_target == StressTarget{});
+  EXPECT_FALSE(read_file_meta(MPI_COMM_SELF, without).parameters);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0)
+    for (const auto& f : {with, without, unset}) std::filesystem::remove(f);
+}
+
+// Checkpoints of run_state format 1 (before /parameters) kept the stages' changes in the run
+// state: they are restored over the deck's [material]; format 2 leaves them to /parameters.
+TEST(CheckpointState, FormatOneRunStateRestoresOverTheDeck) {
+  const Deck deck = parse_deck(kDeck, "a.toml");
+  const std::string common = R"("stage_index": 2, "mid_stage": false, "ranks": 1, "grid": [1, 1, 1],
+      "completed": [], "frames": [], "wall_seconds": 1.5)";
+  const RunState old = parse_run_state(
+      "{\"format\": 1, " + common + R"(, "friction": ")" + exact(0.5).get<std::string>() +
+          R"(", "damping": ")" + exact(0.9).get<std::string>() + R"(", "stress": [")" +
+          exact(1e4).get<std::string>() + "\", \"" + exact(1e4).get<std::string>() + "\", \"" +
+          exact(1e4).get<std::string>() + R"("], "fixed": [false, false, false], "pressure": ")" +
+          exact(1e4).get<std::string>() + "\"}",
+      "old.h5");
+  ASSERT_TRUE(old.legacy);
+  const StateParameters p = legacy_parameters(old, deck);
+  EXPECT_EQ(p.contact_law.friction, 0.5);
+  EXPECT_EQ(p.contact_law.damping_ratio, 0.9);
+  EXPECT_EQ(p.contact_law.young_modulus, 2.88e8);  // the deck's
+  EXPECT_EQ(p.stress_target.stage, 1);              // the compress stage before stage 2
+  EXPECT_EQ(p.stress_target.stress, std::vector<double>(3, 1e4));
+  EXPECT_EQ(p.stress_target.pressure, 1e4);
+  EXPECT_FALSE(parse_run_state("{\"format\": 2, " + common + "}", "new.h5").legacy);
+  EXPECT_THROW(parse_run_state("{\"format\": 3, " + common + "}", "new.h5"), InputError);
+}
+
+}  // namespace
+}  // namespace granpack

@@ -16,6 +16,7 @@
 
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
+#include "granpack/io/state_parameters.h"
 #include "granpack/prep/run_deck.h"
 #include "test_paths.h"
 
@@ -126,7 +127,8 @@ TEST(Deck, CohesionAndRollingResistanceKeys) {
 }
 
 // [GRC] method 2: compress at P* = 0 needs cohesion, a strain-rate cap replaces the inertia
-// cap there, and `stiffen` (series B) ramps the linear law's K_N; material_after replays it.
+// cap there, and `stiffen` (series B) ramps the linear law's K_N; replayed_parameters (the
+// reading of files written before /parameters existed) replays it.
 TEST(Deck, MethodTwoKeys) {
   std::string cohesive = kGood;
   cohesive.replace(cohesive.find("damping = 0.5"), 13,
@@ -148,7 +150,7 @@ TEST(Deck, MethodTwoKeys) {
   EXPECT_NE(message_of(stage(kGood, "inertia_max = 1e-3", "strain_rate_max = -1")).find("strain_rate_max: = -1 is out of range"),
             std::string::npos);
 
-  // stiffen: target, steps, increments <= steps, the stress target; replayed by material_after.
+  // stiffen: target, steps, increments <= steps, the stress target; replayed for old files.
   const std::string stiff = "[[stage]]\nkind = \"stiffen\"\nnormal_stiffness = 1e7\nsteps = 1000\nincrements = 10\npressure = 0\ncell_mass = 0.3\n\n[[stage]]\nkind = \"write\"";
   const Deck d = parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", stiff), "s.toml");
   const auto& f = std::get<StiffenStage>(d.stages[2].params);
@@ -158,10 +160,17 @@ TEST(Deck, MethodTwoKeys) {
   EXPECT_TRUE(f.scale_rolling);
   EXPECT_EQ(f.control.pressure, 0.0);
   EXPECT_EQ(f.control.cell_mass, 0.3);
-  EXPECT_EQ(material_after(d, 1).normal_stiffness, 1e5);
-  EXPECT_EQ(material_after(d, 1).friction, 0.15);  // the set stage
-  EXPECT_EQ(material_after(d, 2).normal_stiffness, 1e7);
-  EXPECT_DOUBLE_EQ(material_after(d, 2).rolling_stiffness, 1e-2);  // K_r follows K_N (x 100)
+  const StateParameters at0 = replayed_parameters(d, 0), at1 = replayed_parameters(d, 1),
+                        at2 = replayed_parameters(d, 2);
+  EXPECT_EQ(at1.contact_law.k_n, 1e5);
+  EXPECT_EQ(at1.contact_law.friction, 0.15);  // the set stage
+  EXPECT_EQ(at2.contact_law.k_n, 1e7);
+  EXPECT_DOUBLE_EQ(at2.contact_law.rolling_stiffness, 1e-2);  // K_r follows K_N (x 100)
+  // The stress target: the compress stage's from its end on; stiffen keeps it.
+  EXPECT_EQ(at0.stress_target.stage, 0);
+  EXPECT_EQ(at0.stress_target.stress, std::vector<double>(2, 100.0));  // 2D
+  EXPECT_EQ(at0.stress_target.pressure, 100.0);
+  EXPECT_EQ(at2.stress_target, at0.stress_target);
   EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(stiff, "increments = 10", "increments = 2000")))
                 .find("increments: = 2000 is out of range"), std::string::npos);
   EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(stiff, "steps = 1000\n", "")))

@@ -153,7 +153,7 @@ Snapshot run_dense(MPI_Comm comm, int steps, Vec<3>* momentum_before = nullptr,
   RunContext<3> ctx;
   ctx.world = comm;
   ctx.deck = &deck;
-  ctx.material = deck.material;
+  ctx.contact_law = contact_law_params(deck.material);
   ctx.log = &log;
   run_lattice(ctx, std::get<LatticeStage>(deck.stages[0].params));
   ctx.system.cell.length *= 0.99;
@@ -165,10 +165,10 @@ Snapshot run_dense(MPI_Comm comm, int steps, Vec<3>* momentum_before = nullptr,
     p.angular_velocity[i] = Vec<3>(std::cos(x), std::sin(3 * x), std::cos(0.5 * x)) * 50.0;
   }
   MdSettings<3> s;
-  s.dt = 0.02 * contact_duration(deck.material, deck.sample, 3, 1.0);
+  s.dt = 0.02 * contact_duration(ctx.contact_law, deck.material.density, deck.sample, 3, 1.0);
   s.skin = 0.1e-3;
   s.stress_control = false;
-  MdEngine<3> engine(ctx, contact_law_of<3>(ctx.material), s);
+  MdEngine<3> engine(ctx, make_contact_law<3>(ctx.contact_law), s);
   if (momentum_before) *momentum_before = Vec<3>(0, 0, 0);
   Vec<3> m0 = momentum(p);
   MPI_Allreduce(MPI_IN_PLACE, m0.data(), 3, MPI_DOUBLE, MPI_SUM, comm);

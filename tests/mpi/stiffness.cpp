@@ -104,10 +104,10 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
   using TensorD = Eigen::Matrix<double, dim, dim>;
   const FileMeta meta = read_file_meta(MPI_COMM_SELF, file);
   PackingView<dim> v = load_packing<dim>(MPI_COMM_SELF, file, meta, threshold, 1.5);
-  const ContactLaw<dim> law = contact_law_of<dim>(v.material);
+  const ContactLaw<dim>& law = v.law;
   if (law.cohesion) select_interaction_network(v);
   RigidityLayout<dim> l;
-  l.rotations = v.friction > 0;
+  l.rotations = law.friction.mu > 0;
   l.rolling = l.rotations && law.rolling.has_value();
   l.ell = 0.5 * v.diameter;
   l.cell = v.system.cell.length;
@@ -501,4 +501,47 @@ tolerance_kinetic = 1e-12
                 "%.10g, sqrt3/4 (K_N + K_T) = %.10g), B = %.10g\n",
                 j["constitutive"]["bulk_modulus"].get<double>(), b_affine, b,
                 j["constitutive"]["shear_modulus_diag"].get<double>(), g_affine, g, j["bulk_modulus"].get<double>());
+}
+
+// A file written before /parameters existed (docs/data/2d/seriesA_rr_P0.01.h5, cohesive, rolling
+// resistance) replays its deck: the contact law, and the target of its last compress stage.
+// The same grains written with those parameters in /parameters give the same report.
+TEST(Stiffness, OldFilesReplayTheirDeckAsTheirParametersWould) {
+  const auto old_file = test::source_dir() / "docs/data/2d/seriesA_rr_P0.01.h5";
+  const FileMeta meta = read_file_meta(MPI_COMM_WORLD, old_file);
+  ASSERT_FALSE(meta.parameters);
+  const StateParameters replayed = replayed_parameters(parse_deck(meta.deck_text, "deck"), meta.stage_index);
+  EXPECT_EQ(replayed.stress_target.stage, 4);
+  EXPECT_EQ(replayed.stress_target.stress, std::vector<double>(2, 10.0));
+  EXPECT_EQ(replayed.contact_law.cohesion_force, 1.0);
+  EXPECT_GT(replayed.contact_law.rolling_stiffness, 0.0);
+  Configuration<2> c = read_configuration<2>(MPI_COMM_WORLD, old_file);
+  c.meta.parameters = replayed;
+  const auto with = test::scratch_dir("stiffness_old_file_np" + std::to_string(size_of())) / "with_parameters.h5";
+  write_configuration<2>(MPI_COMM_WORLD, with, c);
+  testing::internal::CaptureStderr();
+  nlohmann::json a = run_stiffness(old_file), b = run_stiffness(with);
+  const std::string said = testing::internal::GetCapturedStderr();
+  if (rank_of() == 0) {  // once, naming the file
+    EXPECT_NE(said.find(old_file.string() + " has no /parameters"), std::string::npos) << said;
+  }
+  EXPECT_EQ(said.find("with_parameters.h5"), std::string::npos) << said;
+  EXPECT_EQ(a["prescribed_stress_source"], "deck stage 4");
+  for (auto* j : {&a, &b}) j->erase("file"), j->erase("timings_seconds");
+  if (size_of() == 1) {
+    EXPECT_EQ(a, b);
+    return;
+  }
+  // On 2 ranks the contacts come back in another row order, and the solvers' sums round
+  // differently (the smallest eigenvalues vary in their last digits from run to run anyway).
+  a.erase("smallest_eigenvalues_over_mean_kn"), b.erase("smallest_eigenvalues_over_mean_kn");
+  const auto fa = a.flatten(), fb = b.flatten();
+  ASSERT_EQ(fa.size(), fb.size());
+  for (const auto& [key, x] : fa.items()) {
+    const auto& y = fb.at(key);
+    if (x.is_number_float() && y.is_number_float())
+      EXPECT_NEAR(x.get<double>(), y.get<double>(), 1e-9 * std::abs(x.get<double>())) << key;
+    else
+      EXPECT_EQ(x, y) << key;
+  }
 }

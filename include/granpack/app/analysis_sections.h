@@ -16,7 +16,7 @@ nlohmann::json packing_summary(const PackingView<dim>& v, const std::filesystem:
   return {{"file", file.string()},
           {"dimension", dim},
           {"n", v.n},
-          {"friction", std::isinf(v.friction) ? nlohmann::json("inf") : nlohmann::json(v.friction)},
+          {"friction", std::isinf(v.law.friction.mu) ? nlohmann::json("inf") : nlohmann::json(v.law.friction.mu)},
           {"phi", v.phi},
           {"pressure", v.pressure}};
 }

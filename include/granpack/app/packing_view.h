@@ -10,6 +10,7 @@
 
 #include "granpack/comm/decomposition.h"
 #include "granpack/comm/halo.h"
+#include "granpack/contact/contact_law.h"
 #include "granpack/core/system.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/hdf5_store.h"
@@ -31,16 +32,18 @@ template <int dim> struct ContactView {
 
 template <int dim> struct PackingView {
   MPI_Comm world = MPI_COMM_WORLD;
-  Deck deck;                 ///< the deck stored in the file
-  MaterialSpec material;     ///< the material in force at the file's stage (set, stiffen)
-  double friction = 0;       ///< mu in force at the file's stage
+  Deck deck;                 ///< the deck stored in the file (its sample)
+  /// The contact law and stress target in force when the file was written (its /parameters;
+  /// for older files, replayed from the deck: replayed_parameters).
+  ContactLawParams contact_law;
+  StressTarget stress_target;
+  ContactLaw<dim> law;       ///< make_contact_law(contact_law)
   double diameter = 0;       ///< a
   System<dim> system;
   std::unique_ptr<Decomposition<dim>> decomposition;
   Halo<dim> halo;
   double ghost_width = 0;    ///< real width of the ghost layer
   double phi = 0, pressure = 0;  ///< solid fraction; static pressure tr(sigma)/dim (N^e + N^a, T)
-  double cohesion_force = 0, cohesion_range = 0;  ///< F0, D0 of the file's deck (0: none)
   Tensor<dim> stress = Tensor<dim>::Zero();
   double force_threshold = 0;    ///< N above which N^e carries force: threshold x a^2 P, x F1 with cohesion
   std::vector<ContactView<dim>> contacts;

@@ -25,6 +25,7 @@ struct ContactLawParams {
   double cohesion_force = 0, cohesion_range = 0;  ///< F0, D0
   double rolling_stiffness = 0, rolling_friction = 0;  ///< K_r, μ_r
   double rolling_damping = 0;  ///< ζ_r in [0, 1) (not in [GRC]; needs K_r > 0)
+  friend bool operator==(const ContactLawParams&, const ContactLawParams&) = default;
 };
 
 /// Validates p and builds the law (dim = 2 or 3).

@@ -202,10 +202,6 @@ const std::vector<std::string>& stage_kinds();
 /// reads the file on one rank and broadcasts its text, so every rank validates identically.
 Deck parse_deck(const std::string& text, const std::string& file_name);
 
-/// The material in force after stage `stage_index` has run: the deck's, changed by the
-/// `set` and `stiffen` stages up to it (analyses of a file written by that stage).
-MaterialSpec material_after(const Deck& deck, int stage_index);
-
 /// The text of a deck file; a missing or unreadable file is an InputError.
 std::string read_deck_text(const std::filesystem::path& path);
 

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -18,13 +19,14 @@
 #include "granpack/core/contact_store.h"
 #include "granpack/core/error.h"
 #include "granpack/core/particles.h"
+#include "granpack/io/state_parameters.h"
 
 namespace granpack {
 
 /// Version of the schema written by this code (root attribute "format_version").
 inline constexpr int kHdf5FormatVersion = 1;
 
-/// Root attributes of a granpack HDF5 file, plus the deck text.
+/// Root attributes of a granpack HDF5 file, plus the deck text and the parameters in force.
 struct FileMeta {
   std::string granpack_version; ///< empty on write: this build's version
   int dimension = 0;            ///< on write: taken from the template parameter
@@ -39,6 +41,9 @@ struct FileMeta {
   /// Checkpoints only: the run's state beyond the grains (stage, stage-internal state,
   /// completed stage reports) as JSON text (docs/long-jobs.md); empty otherwise.
   std::string run_state;
+  /// The group /parameters: the contact law and stress target that produced the state. Absent
+  /// from files written before it existed (their readers replay the deck: state_parameters.h).
+  std::optional<StateParameters> parameters;
 };
 
 /// What one rank writes or reads: the cell, its particles (owned only; ghosts are never
@@ -67,7 +72,7 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
 template <int dim>
 Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path& path);
 
-/// Collective on comm (cheap: root attributes and /deck only; may be called with
+/// Collective on comm (cheap: root attributes, /deck, /run_state and /parameters; may be called with
 /// MPI_COMM_SELF on one rank). Used to dispatch on the dimension before read_configuration.
 /// Throws InputError like read_configuration.
 FileMeta read_file_meta(MPI_Comm comm, const std::filesystem::path& path);

@@ -2,11 +2,12 @@
 // Checkpoints of a running deck (docs/long-jobs.md): when to write one, what it holds beyond
 // the grains, and how a restart finds its place again.
 //
-// A checkpoint is an HDF5 configuration (kind "checkpoint", io/hdf5_store.h) plus /run_state,
-// a JSON text with the stage in progress, the completed stages' report entries, the material
-// and stress state the stages left in the RunContext, the domain grid, and - for a checkpoint
-// taken inside a stage - one frame of internal state per nested stage (pressure_steps ->
-// compress). Two moments are used:
+// A checkpoint is an HDF5 configuration (kind "checkpoint", io/hdf5_store.h) - whose group
+// /parameters holds, as in every file a run writes, the contact law and stress target the
+// stages left in the RunContext - plus /run_state, a JSON text with the stage in progress,
+// the completed stages' report entries, the domain grid, and - for a checkpoint taken inside
+// a stage - one frame of internal state per nested stage (pressure_steps -> compress). Two
+// moments are used:
 //  * between stages ("boundary"): nothing to resume inside a stage;
 //  * inside an MD stage, in the middle of a time step, right after a forced neighbour
 //    rebuild (md_engine.h): positions are drifted, velocities half-kicked, forces not yet
@@ -27,6 +28,7 @@
 
 #include "granpack/io/deck.h"
 #include "granpack/io/report.h"
+#include "granpack/io/state_parameters.h"
 
 namespace granpack {
 
@@ -90,18 +92,27 @@ struct RunState {
   int ranks = 0;           ///< rank count of the writing run
   std::vector<int> grid;   ///< its domain grid
   std::vector<StageReport> completed;
-  double friction = 0, damping = 0;  ///< the material as `set` stages left it
-  /// K_N and K_r as `stiffen` stages left them (absent from older checkpoints).
-  std::optional<double> normal_stiffness, rolling_stiffness;
-  std::vector<double> stress;
-  std::vector<bool> fixed;
-  double pressure = 0;
   std::vector<nlohmann::json> frames;  ///< outermost stage first
   double wall_seconds = 0;
+  /// Checkpoints written before /parameters existed (run_state format 1) stored here what the
+  /// stages had changed: restored over the deck's [material] (legacy_parameters).
+  struct Legacy {
+    double friction = 0, damping = 0;  ///< as `set` stages left them
+    std::optional<double> normal_stiffness, rolling_stiffness;  ///< `stiffen` (absent before it)
+    std::vector<double> stress;  ///< the last compress stage's target (empty: none)
+    std::vector<bool> fixed;
+    double pressure = 0;
+  };
+  std::optional<Legacy> legacy;
 };
 
 /// Parses /run_state; throws InputError naming `file` if it is not one.
 RunState parse_run_state(const std::string& text, const std::string& file);
+
+/// The parameters of a checkpoint without /parameters (state.legacy set): the deck's material
+/// with the stored changes, and the stored stress target, attributed to the last compress or
+/// pressure_steps stage run before the checkpoint (the stage is only a label).
+StateParameters legacy_parameters(const RunState& state, const Deck& deck);
 
 /// Refuses (InputError, naming what differs) a restart whose deck differs from the
 /// checkpoint's in anything but [output]; with `allow_later_stages`, stages after the one in

@@ -1,7 +1,7 @@
 #pragma once
-// What a stage works on: the distributed state, the deck, the current material (a `set`
-// stage changes it), the log and the output directory. Stages orchestrate; physics lives in
-// the kernels and communication in comm/.
+// What a stage works on: the distributed state, the deck, the contact law and stress target
+// in force (stages change them; every file written stores them), the log and the output
+// directory. Stages orchestrate; physics lives in the kernels and communication in comm/.
 #include <mpi.h>
 
 #include <deque>
@@ -16,6 +16,7 @@
 #include "granpack/io/deck.h"
 #include "granpack/io/log.h"
 #include "granpack/io/report.h"
+#include "granpack/io/state_parameters.h"
 #include "granpack/prep/checkpoint.h"
 
 namespace granpack {
@@ -23,7 +24,11 @@ namespace granpack {
 template <int dim> struct RunContext {
   MPI_Comm world = MPI_COMM_WORLD;
   const Deck* deck = nullptr;
-  MaterialSpec material;  ///< current material (starts as the deck's)
+  /// The contact law in force: the deck's [material], changed by `set` and `stiffen`.
+  ContactLawParams contact_law;
+  /// The stresses and fixed axes of the last compress stage (pressure_steps scales them,
+  /// fix_rattlers takes its force scale from them); unset before any compress stage.
+  StressTarget stress_target;
   System<dim> system;
   /// Created by the stage that builds the sample, once the cell is known.
   std::unique_ptr<Decomposition<dim>> decomposition;
@@ -31,12 +36,6 @@ template <int dim> struct RunContext {
   std::filesystem::path output_dir;
   int stage_index = -1;
   std::string stage_name;
-  /// The stresses and fixed axes of the last compress stage (pressure_steps scales them,
-  /// fix_rattlers takes its force scale from them); empty before any compress stage.
-  std::vector<double> stress;
-  std::vector<bool> fixed;
-  double pressure = 0;
-
   /// Checkpoints (null: none are written, e.g. in tests that drive stages directly).
   Checkpointer* checkpointer = nullptr;
   /// State of the stages in progress, outermost first, for a checkpoint taken inside a
@@ -54,6 +53,9 @@ template <int dim> struct RunContext {
     resume.pop_front();
     return f;
   }
+
+  /// What every file written now records of the run (the HDF5 group /parameters).
+  StateParameters parameters() const { return {contact_law, stress_target}; }
 
   /// Solid fraction: sum of grain volumes (areas in 2D) over the cell's. Collective.
   double solid_fraction() const;

@@ -9,9 +9,6 @@
 
 namespace granpack {
 
-/// Whether this version can execute a stage kind (the deck language knows more kinds).
-bool stage_implemented(const std::string& kind);
-
 template <int dim> StageReport run_lattice(RunContext<dim>& ctx, const LatticeStage& p);
 template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStage& p);
 template <int dim> StageReport run_compress(RunContext<dim>& ctx, const CompressStage& p);
