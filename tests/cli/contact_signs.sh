@@ -5,7 +5,8 @@
 # With n = unit(minimum-image r_second - r_first), f = (N^e + N^a) n + T acts on the second
 # grain and -f on the first, at the contact points b_first = (R_first - h/2) n and
 # b_second = -(R_second - h/2) n; the rolling moment is -K_r rolling on the second grain and
-# +K_r rolling on the first (K_r as material_after: scaled by stiffen stages). Then every
+# +K_r rolling on the first (K_r after the stiffen stages, replayed here from the deck
+# independently of the file's /parameters group). Then every
 # grain's net static force is below 1.5 x the stage's tolerance_force F1 and its net moment
 # below 1.5 x tolerance_moment F1 a (1e-3 F1 a in 3D, where the decks set no moment
 # criterion), and (1/V) sum f.r / dim is the imposed pressure (with n reversed it would be
@@ -27,7 +28,8 @@ import os, sys, tomllib
 import h5py, numpy as np
 
 def material_after(deck, stage_index):
-    """K_r, F0, D0 in force at the file's stage (as material_after in src/io/deck.cpp)."""
+    """K_r, F0, D0 in force at the file's stage, replayed from the deck (an independent check of
+    the /parameters group the engine writes)."""
     m = dict(deck["material"])
     kr, kn = m.get("rolling_stiffness", 0.0), m.get("normal_stiffness")
     for st in deck["stage"][: stage_index + 1]:

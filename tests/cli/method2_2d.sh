@@ -7,7 +7,7 @@
 # - every stage that seeks equilibrium reached it; the aggregate is one cluster (union-find
 #   over the file's contacts and distant pairs);
 # - P0.h5 and the stiffened final.h5: N^e = K_N h for every contact, with the NEW K_N after
-#   stiffen (the stage changed the law; `analyze` takes it from material_after), net static
+#   stiffen (the stage changed the law; `analyze` reads it from the file's /parameters), net static
 #   force and moment on every grain below the deck's tolerance (1e-3 F0, 1e-3 F0 a), static
 #   stress within 1e-3 F0/a of P;
 # - the aggregation keeps the fixed cell's Phi; the relaxation at P* = 0 changes it by less
