@@ -91,9 +91,14 @@ std::string table(const nlohmann::json& j) {
   }
   if (j.contains("density")) {
     const auto& d = j["density"];
-    row("d_F, xi/a (eq. 28 fit)", num(d["fit_eq28"]["d_F"]) + " +- " + num(d["fit_eq28"]["d_F_error"]) + ", " +
-                                   num(d["fit_eq28"]["xi_over_a"]) + " +- " + num(d["fit_eq28"]["xi_error_over_a"]) +
-                                   (d["fit_eq28"]["fractal_regime"].get<bool>() ? "" : " (no fractal regime)"));
+    for (const char* fit : {"fit_eq28", "fit_eq27_real_space"}) {
+      const auto& f = d[fit];
+      row(fit == std::string("fit_eq28") ? "d_F, xi/a (eq. 28, I(k))" : "d_F, xi/a (eq. 27, C(r))",
+          f["determined"].get<bool>()
+              ? num(f["d_F"]) + " +- " + num(f["d_F_error"]) + ", " + num(f["xi_over_a"]) + " +- " +
+                    num(f["xi_error_over_a"]) + (f["fractal_regime"].get<bool>() ? "" : " (no fractal regime)")
+              : "undetermined: " + f["reason"].get<std::string>());
+    }
     row("holes, <R>_w/a (eq. 30)", std::to_string(d["holes"]["count"].get<long long>()) + " (" +
                                        std::to_string(d["holes"]["wrapping"].get<long long>()) + " wrapping), " +
                                        num(d["holes"]["R_w_over_a"]));

@@ -43,9 +43,12 @@ struct DensityOptions {
   double max_nodes = 6.4e7;      ///< coarser mesh beyond this (about 1.5 GB of FFT arrays)
   double k_max_wavelength = 1.0; ///< the fit of eq. (28) stops at k = 2 pi / (this * a)
   int bins = 60;                 ///< logarithmic |k| bins of I(k)
+  double r_bin = 0.25;           ///< C(r) bin width / a
+  double r_min = 1.0;            ///< the real-space fit of eq. (27) starts at r = this * a
 };
-/// 2D density fluctuations ([GRC] sec. V): I(k) (eq. 25), the fit of eq. (28) giving d_F and
-/// xi, hole radii and <R>_w (eq. 29-30). Collective; computed on rank 0.
+/// 2D density fluctuations ([GRC] sec. V): I(k) (eq. 25) and C(r) (eq. 24), the fits of eq. (28)
+/// and of eq. (27) giving d_F and xi, hole radii and <R>_w (eq. 29-30). Collective; computed on
+/// rank 0.
 nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o);
 
 /// Triangles and tetrahedra of the backbone contact network per backbone grain ([AR] III D).
