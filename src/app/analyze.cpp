@@ -88,6 +88,14 @@ std::string table(const nlohmann::json& j) {
     row(("F_perc / " + c["force_scale_is"].get<std::string>()).c_str(),
         num(c["F_perc_over_Fs"]) + " (all directions " + num(c["F_perc_all_directions_over_Fs"]) + ")");
     row("vanishing, |N| > F_s/10", num(c["fraction_vanishing"]) + ", " + num(c["fraction_above_tenth"]));
+    const auto& m = c["force_means"];
+    row("<|N|>/F_s: +, - (table VI)", num(m["repulsive"]["mean_abs_N_over_Fs"]) + ", " +
+                                          num(m["attractive"]["mean_abs_N_over_Fs"]) + " (rms " +
+                                          num(m["repulsive"]["rms_N_over_Fs"]) + ", " +
+                                          num(m["attractive"]["rms_N_over_Fs"]) + ")");
+    std::string xk;
+    for (auto& [k, x] : c["x_k"].items()) xk += "x" + k + "=" + num(x) + " ";
+    row("x_k, all interactions", xk);
   }
   if (j.contains("density")) {
     const auto& d = j["density"];

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "granpack/analysis/force_sign_classes.h"
 #include "granpack/app/packing_view.h"
 
 namespace granpack {
@@ -36,6 +37,14 @@ template <int dim> nlohmann::json analyze_pairs(const PackingView<dim>& v, const
 /// z+, z-, z0, the distribution of N / F_s and of the force angle (fig. 9, 15), Rumpf's
 /// eq. (17), the percolation threshold F_perc (sec. IV B 1).
 template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v);
+
+/// Part of analyze_interactions: table VI's force means by sign class (`force_means`) and the
+/// fractions x_k of grains with k interactions (`x_k`, figs. 3 and 6) and with k stressed ones
+/// (`x_k_stressed`, |N| above the tolerance), from the rank's sums and per-grain counts (local
+/// indices, ghosts included). Collective.
+template <int dim>
+nlohmann::json interaction_classes(const PackingView<dim>& v, ForceSignSums sums, std::vector<double> all,
+                                   std::vector<double> stressed, double force_scale);
 
 struct DensityOptions {
   bool enabled = true;           ///< 2D only; off with --no-density
