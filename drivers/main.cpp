@@ -92,6 +92,9 @@ int main(int argc, char** argv) {
   analyze_cmd->add_option("--fit-kmax", density_opts.k_max_wavelength,
                           "2D: fit eq. (28) up to k = 2 pi / (this * a) (default 1)")
       ->check(CLI::Range(0.05, 100.0));
+  analyze_cmd->add_option("--fit-rmin", density_opts.r_min,
+                          "2D: fit eq. (27) to C(r) from r = this * a (default 1)")
+      ->check(CLI::Range(0.0, 100.0));
   auto* stiffness_cmd = app.add_subcommand("stiffness", "rigidity, mechanisms and elastic moduli");
   stiffness_cmd->add_option("file", file, "configuration file (.h5)")->required();
   stiffness_cmd->add_option("--json", json_out, "also write the results as JSON to this file");

@@ -88,12 +88,25 @@ std::string table(const nlohmann::json& j) {
     row(("F_perc / " + c["force_scale_is"].get<std::string>()).c_str(),
         num(c["F_perc_over_Fs"]) + " (all directions " + num(c["F_perc_all_directions_over_Fs"]) + ")");
     row("vanishing, |N| > F_s/10", num(c["fraction_vanishing"]) + ", " + num(c["fraction_above_tenth"]));
+    const auto& m = c["force_means"];
+    row("<|N|>/F_s: +, - (table VI)", num(m["repulsive"]["mean_abs_N_over_Fs"]) + ", " +
+                                          num(m["attractive"]["mean_abs_N_over_Fs"]) + " (rms " +
+                                          num(m["repulsive"]["rms_N_over_Fs"]) + ", " +
+                                          num(m["attractive"]["rms_N_over_Fs"]) + ")");
+    std::string xk;
+    for (auto& [k, x] : c["x_k"].items()) xk += "x" + k + "=" + num(x) + " ";
+    row("x_k, all interactions", xk);
   }
   if (j.contains("density")) {
     const auto& d = j["density"];
-    row("d_F, xi/a (eq. 28 fit)", num(d["fit_eq28"]["d_F"]) + " +- " + num(d["fit_eq28"]["d_F_error"]) + ", " +
-                                   num(d["fit_eq28"]["xi_over_a"]) + " +- " + num(d["fit_eq28"]["xi_error_over_a"]) +
-                                   (d["fit_eq28"]["fractal_regime"].get<bool>() ? "" : " (no fractal regime)"));
+    for (const char* fit : {"fit_eq28", "fit_eq27_real_space"}) {
+      const auto& f = d[fit];
+      row(fit == std::string("fit_eq28") ? "d_F, xi/a (eq. 28, I(k))" : "d_F, xi/a (eq. 27, C(r))",
+          f["determined"].get<bool>()
+              ? num(f["d_F"]) + " +- " + num(f["d_F_error"]) + ", " + num(f["xi_over_a"]) + " +- " +
+                    num(f["xi_error_over_a"]) + (f["fractal_regime"].get<bool>() ? "" : " (no fractal regime)")
+              : "undetermined: " + f["reason"].get<std::string>());
+    }
     row("holes, <R>_w/a (eq. 30)", std::to_string(d["holes"]["count"].get<long long>()) + " (" +
                                        std::to_string(d["holes"]["wrapping"].get<long long>()) + " wrapping), " +
                                        num(d["holes"]["R_w_over_a"]));

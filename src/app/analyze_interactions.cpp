@@ -118,11 +118,16 @@ template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v
   // Second pass: distributions and the percolation records.
   Histogram normal(-1.5, 3.5, 100), angle(0.0, 180.0, 36);
   double counts[2] = {0, 0};  // |F| < tolerance, |N| > F_s / 10
+  ForceSignSums signs;        // table VI
+  std::vector<double> per_grain(p.size(), 0.0), per_grain_stressed(p.size(), 0.0);  // x_k
   for (const auto& c : v.contacts) {
     const double N = c.total_normal_force();
     const Vec<dim> nrm = c.branch.normalized();
     const double T = (c.tangential_force - c.tangential_force.dot(nrm) * nrm).norm();
     const double F = std::hypot(N, T);
+    signs.add(N, T, tolerance);
+    per_grain[c.i] += 1, per_grain[c.j] += 1;
+    if (std::abs(N) > tolerance) per_grain_stressed[c.i] += 1, per_grain_stressed[c.j] += 1;
     normal.add(N / fs);
     if (F < tolerance) counts[0] += 1;
     else angle.add(force_angle_degrees(N, T));
@@ -139,6 +144,7 @@ template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v
   j["force_angle_pdf"] = histogram_json(angle);    // degrees, interactions with |F| >= tolerance
   j["fraction_vanishing"] = counts[0] / interactions;
   j["fraction_above_tenth"] = counts[1] / interactions;
+  j.update(interaction_classes(v, signs, std::move(per_grain), std::move(per_grain_stressed), fs));
   const PercolationResult perc = percolation(v, records);
   j["F_perc_over_Fs"] = perc.threshold_any / fs;
   j["F_perc_all_directions_over_Fs"] = perc.threshold_all / fs;

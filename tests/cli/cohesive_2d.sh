@@ -17,7 +17,8 @@
 #   3 rows per contact (rolling resistance) and 1 per distant pair, H by eq. (21);
 # - `granpack analyze` (1 and 2 ranks, same results) gives the interaction statistics of
 #   [GRC] sec. IV that the file gives independently: z+/z-/z0, the vanishing and > F0/10
-#   fractions, the N/F0 and force-angle histograms, Rumpf's eq. (17) and the percolation
+#   fractions, the N/F0 and force-angle histograms, table VI's force means by sign class, the
+#   x_k of figs. 3 and 6, Rumpf's eq. (17) and the percolation
 #   threshold F_perc (here by bisection over |F| with a breadth-first unwrapping, not the
 #   union-find of the code).
 set -u
@@ -175,6 +176,20 @@ for np_ in (1, 2):
     for key, h in (("normal_force_pdf", hN), ("force_angle_pdf", hA)):
         got = np.array(an[1][key]["pdf"]) * an[1][key]["count"] * (np.diff(an[1][key]["edges"])[0])
         check(f"analyze {key}: counts {got[:8]}..., the file gives {h[:8]}...", np.allclose(got, h, atol=1e-9))
+    # Table VI's force means by sign class and the x_k of figs. 3 and 6, on 1 and 2 ranks.
+    for a_ in an:
+        for cls, sel in (("repulsive", Ns > tol), ("attractive", Ns < -tol), ("vanishing", np.abs(Ns) <= tol)):
+            m = a_["force_means"][cls]
+            close(f"{cls} count", m["count"], sel.sum())
+            close(f"{cls} <|N|>/F0", m["mean_abs_N_over_Fs"], np.abs(Ns[sel]).mean() / F0)
+            close(f"{cls} <N^2>^1/2/F0", m["rms_N_over_Fs"], np.sqrt((Ns[sel] ** 2).mean()) / F0)
+            close(f"{cls} <|T|>/F0", m["mean_abs_T_over_Fs"], Tm[sel].mean() / F0)
+            close(f"{cls} <T^2>^1/2/F0", m["rms_T_over_Fs"], np.sqrt((Tm[sel] ** 2).mean()) / F0)
+        for key, sel in (("x_k", np.ones(len(Ns), bool)), ("x_k_stressed", np.abs(Ns) > tol)):
+            k_i = np.bincount(np.concatenate([first[sel], second[sel]]), minlength=len(x))
+            expect_x = {str(k): c / len(x) for k, c in enumerate(np.bincount(k_i)) if c}
+            check(f"analyze {key}: {a_[key]}, the file gives {expect_x}",
+                  a_[key].keys() == expect_x.keys() and all(abs(a_[key][k] - v) < 1e-12 for k, v in expect_x.items()))
     # F_perc: the largest |F| whose network {|F| >= F} wraps around the cell.
     img = np.round(((x[first] + r) - x[second]) / L).astype(int)  # image of the second grain
     def wraps(thr):

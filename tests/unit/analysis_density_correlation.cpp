@@ -2,8 +2,11 @@
 // the rasterised area is the disks' area; I(k) of one disk is its analytic form factor
 // |2 pi R J1(kR)/k|^2 / A; the closed form used for eq. (28) equals the paper's
 // hypergeometric series where that converges and the Hankel integral of eq. (27) elsewhere;
-// the fit recovers d_F and xi from a curve made by eq. (28); holes of known shape give
-// eq. (29)'s radius and wrapping holes are recognised.
+// the fit recovers d_F and xi from a curve made by eq. (28), and eq. (27)'s real-space fit from
+// a curve made by eq. (27); a curve without cut-off leaves xi undetermined (no number with a
+// zero error) and the regime condition takes the errors into account; C(r) of one disk is the
+// overlap area of two disks; holes of known shape give eq. (29)'s radius and wrapping holes are
+// recognised.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +16,12 @@
 
 namespace granpack {
 namespace {
+
+/// One disk of radius R at `centre` in the 20 x 20 periodic cell, on n x n nodes.
+std::vector<std::uint8_t> one_disk(const Vec<2>& centre, double R, int n) {
+  const std::vector<Disk> d = {{centre, R}};
+  return rasterize_disks(d, Vec<2>(20.0, 20.0), n, n);
+}
 
 TEST(DensityCorrelation, RasterisedAreaIsTheDiskArea) {
   const Vec<2> L(10.0, 8.0);
@@ -29,9 +38,8 @@ TEST(DensityCorrelation, RasterisedAreaIsTheDiskArea) {
 TEST(DensityCorrelation, SingleDiskGivesItsFormFactor) {
   const Vec<2> L(20.0, 20.0);
   const double R = 1.5;
-  std::vector<Disk> d = {{Vec<2>(7.3, 11.1), R}};
   const int n = 1024;
-  const auto chi = rasterize_disks(d, L, n, n);
+  const auto chi = one_disk(Vec<2>(7.3, 11.1), R, n);
   const auto c = scattering_function(chi, L, n, n, 6.0, 30);
   ASSERT_GT(c.k.size(), 10u);
   // |chi^(k)| depends only on |k| for one disk: the bin mean is the form factor at the bin's k
@@ -89,6 +97,83 @@ TEST(DensityCorrelation, FitRecoversFractalDimensionAndBlobSize) {
   EXPECT_NEAR(f.xi, xi, 1e-3);
   EXPECT_NEAR(f.constant, cst, 1e-5);
   EXPECT_LT(f.rms_log_residual, 1e-6);
+}
+
+TEST(DensityCorrelation, FitWithoutCutOffIsUndetermined) {
+  // A pure power law plus a constant: xi runs away (the case that reported xi ~ 1e11-1e15 with
+  // an error of 0): undetermined, with a reason, and never a fractal regime.
+  ScatteringCurve c;
+  for (int i = 0; i < 40; ++i) {
+    const double k = 0.05 * std::pow(120.0, i / 39.0);
+    c.k.push_back(k);
+    c.I.push_back(0.01 + 0.3 * std::pow(k, -1.6));
+    c.I_error.push_back(0);
+    c.count.push_back(4 + i * i);
+  }
+  const FractalFit f = fit_fractal_blob(c, 0.05, 6.0, 0.3, 125.0);
+  EXPECT_FALSE(f.determined) << "xi = " << f.xi << " +- " << f.xi_error;
+  EXPECT_FALSE(f.reason.empty());
+  EXPECT_FALSE(fractal_regime_failure(f, 1.0, 125.0).empty());
+}
+
+TEST(DensityCorrelation, RegimeConditionUsesTheErrors) {
+  FractalFit f;
+  f.determined = true, f.points = 30, f.d_f = 1.5, f.d_f_error = 0.05, f.xi = 53, f.xi_error = 120;
+  EXPECT_EQ(fractal_regime_failure(f, 1.0, 200.0), "xi - 2 sigma_xi <= a");  // 53 +- 120: no regime
+  f.xi_error = 5;
+  EXPECT_EQ(fractal_regime_failure(f, 1.0, 200.0), "");
+  EXPECT_EQ(fractal_regime_failure(f, 1.0, 120.0), "xi + 2 sigma_xi >= L/2");
+  f.d_f = 1.95, f.d_f_error = 0.1;
+  EXPECT_EQ(fractal_regime_failure(f, 1.0, 200.0), "d_F + 2 sigma_dF >= 2.1");
+  f.d_f = 1.5, f.d_f_error = std::nan("");
+  EXPECT_EQ(fractal_regime_failure(f, 1.0, 200.0), "sigma_dF >= 0.2");
+  f.determined = false, f.reason = "singular covariance";
+  EXPECT_EQ(fractal_regime_failure(f, 1.0, 200.0), "fit undetermined: singular covariance");
+}
+
+TEST(DensityCorrelation, RealSpaceFitRecoversEq27) {
+  CorrelationCurve c;
+  const double d = 1.55, xi = 6.0, phi = 0.2, l = 0.4;
+  for (int i = 1; i < 200; ++i) {
+    const double r = 0.25 * i;
+    c.r.push_back(r);
+    c.C.push_back(phi * std::pow(r / l, d - 2) * std::exp(-r / xi));
+    c.count.push_back(1);
+  }
+  const FractalFit f = fit_fractal_real_space(c, 1.0, 40.0, phi);
+  ASSERT_TRUE(f.determined) << f.reason;
+  EXPECT_NEAR(f.d_f, d, 1e-9);
+  EXPECT_NEAR(f.xi, xi, 1e-8);
+  EXPECT_NEAR(f.length_l, l, 1e-8);
+  EXPECT_NEAR(f.lo, 1.0, 1e-12);
+  EXPECT_NEAR(f.hi, 40.0, 1e-12);
+  // Without a cut-off (xi -> infinity) the fit says so instead of returning a number.
+  for (std::size_t i = 0; i < c.r.size(); ++i) c.C[i] = phi * std::pow(c.r[i] / l, d - 2) * std::exp(c.r[i] / 500);
+  const FractalFit g = fit_fractal_real_space(c, 1.0, 40.0, phi, 100.0);
+  EXPECT_FALSE(g.determined);
+  EXPECT_FALSE(g.reason.empty());
+}
+
+TEST(DensityCorrelation, CorrelationOfOneDiskIsTheOverlapArea) {
+  const Vec<2> L(20.0, 20.0);
+  const double R = 2.0;
+  const int n = 1000;
+  const auto chi = one_disk(Vec<2>(3.1, 17.6), R, n);
+  double solid = 0;
+  for (auto x : chi) solid += x;
+  const double phi = solid / double(chi.size());
+  const DensitySpectra s = density_spectra(chi, L, n, n, 5.0, 20, 10.0, 0.1);
+  ASSERT_EQ(s.correlation.r.size(), 100u);
+  for (std::size_t b = 0; b < s.correlation.r.size(); ++b) {
+    const double r = s.correlation.r[b];
+    // Two disks of radius R at distance r overlap on 2 R^2 acos(r/2R) - (r/2) sqrt(4R^2 - r^2).
+    const double overlap = r < 2 * R ? 2 * R * R * std::acos(r / (2 * R)) - 0.5 * r * std::sqrt(4 * R * R - r * r) : 0.0;
+    EXPECT_NEAR(s.correlation.C[b], overlap / (L[0] * L[1]) - phi * phi, 1e-3 * phi) << "r = " << r;
+  }
+  // The scattering curve is the one scattering_function gives.
+  const ScatteringCurve c = scattering_function(chi, L, n, n, 5.0, 20);
+  ASSERT_EQ(c.I.size(), s.scattering.I.size());
+  for (std::size_t b = 0; b < c.I.size(); ++b) EXPECT_EQ(c.I[b], s.scattering.I[b]);
 }
 
 TEST(DensityCorrelation, HolesAndTheirEquivalentRadii) {

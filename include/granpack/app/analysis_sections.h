@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "granpack/analysis/force_sign_classes.h"
 #include "granpack/app/packing_view.h"
 
 namespace granpack {
@@ -37,15 +38,26 @@ template <int dim> nlohmann::json analyze_pairs(const PackingView<dim>& v, const
 /// eq. (17), the percolation threshold F_perc (sec. IV B 1).
 template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v);
 
+/// Part of analyze_interactions: table VI's force means by sign class (`force_means`) and the
+/// fractions x_k of grains with k interactions (`x_k`, figs. 3 and 6) and with k stressed ones
+/// (`x_k_stressed`, |N| above the tolerance), from the rank's sums and per-grain counts (local
+/// indices, ghosts included). Collective.
+template <int dim>
+nlohmann::json interaction_classes(const PackingView<dim>& v, ForceSignSums sums, std::vector<double> all,
+                                   std::vector<double> stressed, double force_scale);
+
 struct DensityOptions {
   bool enabled = true;           ///< 2D only; off with --no-density
   double spacing = 0.01;         ///< mesh spacing / a ([GRC] V C: about a/100)
   double max_nodes = 6.4e7;      ///< coarser mesh beyond this (about 1.5 GB of FFT arrays)
   double k_max_wavelength = 1.0; ///< the fit of eq. (28) stops at k = 2 pi / (this * a)
   int bins = 60;                 ///< logarithmic |k| bins of I(k)
+  double r_bin = 0.25;           ///< C(r) bin width / a
+  double r_min = 1.0;            ///< the real-space fit of eq. (27) starts at r = this * a
 };
-/// 2D density fluctuations ([GRC] sec. V): I(k) (eq. 25), the fit of eq. (28) giving d_F and
-/// xi, hole radii and <R>_w (eq. 29-30). Collective; computed on rank 0.
+/// 2D density fluctuations ([GRC] sec. V): I(k) (eq. 25) and C(r) (eq. 24), the fits of eq. (28)
+/// and of eq. (27) giving d_F and xi, hole radii and <R>_w (eq. 29-30). Collective; computed on
+/// rank 0.
 nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o);
 
 /// Triangles and tetrahedra of the backbone contact network per backbone grain ([AR] III D).
