@@ -13,6 +13,7 @@
 #endif
 #include "granpack/app/bench.h"
 #include "granpack/app/ensemble_summary.h"
+#include "granpack/comm/fault_injection.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/prep/ensemble_run.h"
@@ -141,6 +142,7 @@ int main(int argc, char** argv) {
       MPI_Finalize();
       return code;
     }
+    granpack::arm_fault_injection(MPI_COMM_WORLD);  // test-only, GRANPACK_FAULT (docs/long-jobs.md)
     if (*run_cmd) {
       const bool restarting = run_cmd->count("--restart") > 0;
       if (ckpt_steps >= 0) run.checkpoint_every_steps = ckpt_steps;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/fault_injection.h"
 #include "granpack/io/atomic_file.h"
 #include "granpack/io/hdf5_handle.h"
 #include "granpack/io/hdf5_string_guard.h"
@@ -771,6 +772,7 @@ void write_file(MPI_Comm comm, const FileContext& ctx, const Configuration<dim>&
                dxpl);
   }
   run_write_hook("after_particles");
+  if (m.kind == "checkpoint") fault_point(FaultPoint::kCheckpointDatasets);
 
   {
     const auto& cst = c.contacts;
@@ -859,6 +861,7 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
     MPI_Barrier(comm);
     throw;
   }
+  if (c.meta.kind == "checkpoint") fault_point(FaultPoint::kCheckpointRename);
   collectively(comm, [&] {
     if (rank != 0)
       return;
