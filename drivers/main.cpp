@@ -3,7 +3,9 @@
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdint>
+#include <cstdlib>
 #include <iostream>
 
 #include "granpack/app/analyze.h"
@@ -13,6 +15,7 @@
 #endif
 #include "granpack/app/bench.h"
 #include "granpack/app/ensemble_summary.h"
+#include "granpack/comm/fault_injection.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/prep/ensemble_run.h"
@@ -29,6 +32,10 @@ int rank_of(MPI_Comm comm) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file size limit (ulimit -f) must not kill a rank with SIGXFSZ, silently and alone: with
+  // the signal ignored, write() fails with EFBIG and the collective write-failure path runs
+  // (every rank stops with the message, exit code 74; docs/long-jobs.md).
+  std::signal(SIGXFSZ, SIG_IGN);
   MPI_Init(&argc, &argv);
   const bool root = rank_of(MPI_COMM_WORLD) == 0;
 
@@ -144,6 +151,7 @@ int main(int argc, char** argv) {
       MPI_Finalize();
       return code;
     }
+    granpack::arm_fault_injection(MPI_COMM_WORLD);  // test-only, GRANPACK_FAULT (docs/long-jobs.md)
     if (*run_cmd) {
       const bool restarting = run_cmd->count("--restart") > 0;
       if (ckpt_steps >= 0) run.checkpoint_every_steps = ckpt_steps;
@@ -222,6 +230,16 @@ int main(int argc, char** argv) {
     std::cerr << "granpack: fatal error on rank " << rank_of(MPI_COMM_WORLD) << ": " << e.what()
               << std::endl;
     MPI_Abort(MPI_COMM_WORLD, granpack::kExitFailure);
+  }
+  if (granpack::hdf5_file_left_open()) {
+    // After a failed parallel write, HDF5 1.10.8 segfaults in its shutdown at MPI_Finalize
+    // (H5F__close_cb, on every rank that took part): skip the shutdown. Every rank is here
+    // (write failures are collective); the barrier lets rank 0's message out first, since
+    // mpirun stops the job when any rank ends with a non-zero code.
+    MPI_Barrier(MPI_COMM_WORLD);
+    std::cout.flush();
+    std::cerr.flush();
+    std::_Exit(code);
   }
 #ifdef GRANPACK_HAVE_RIGIDITY
   granpack::finalize_petsc();

@@ -30,11 +30,11 @@ std::filesystem::path temp_path_for(const std::filesystem::path& path) {
 
 void commit_temp_file(const std::filesystem::path& temp, const std::filesystem::path& path) {
   if (int e = sync_path(temp, false); e != 0)
-    throw Error("cannot flush " + temp.string() + " to disk: " + std::strerror(e));
+    throw WriteError("cannot flush " + temp.string() + " to disk: " + std::strerror(e));
   std::error_code ec;
   std::filesystem::rename(temp, path, ec);
   if (ec)
-    throw Error("cannot rename " + temp.string() + " to " + path.string() + ": " + ec.message());
+    throw WriteError("cannot rename " + temp.string() + " to " + path.string() + ": " + ec.message());
   // Make the rename itself durable; a failure here leaves a complete file, so it is not fatal.
   auto dir = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
   (void)sync_path(dir, true);

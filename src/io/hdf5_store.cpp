@@ -1,6 +1,8 @@
 #include "granpack/io/hdf5_store.h"
 
 #include <hdf5.h>
+#include <sys/resource.h>
+#include <sys/statvfs.h>
 
 #include <algorithm>
 #include <array>
@@ -11,7 +13,9 @@
 #include <sstream>
 #include <vector>
 
+#include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/fault_injection.h"
 #include "granpack/io/atomic_file.h"
 #include "granpack/io/hdf5_handle.h"
 #include "granpack/io/hdf5_string_guard.h"
@@ -26,6 +30,11 @@ namespace granpack {
 namespace {
 
 using h5::Handle;
+
+bool& file_left_open() {
+  static bool left = false;
+  return left;
+}
 
 std::function<void(std::string_view)>& write_hook() {
   static std::function<void(std::string_view)> hook;
@@ -707,75 +716,121 @@ template <int dim> void validate_for_write(const Configuration<dim>& c, const Fi
       ctx.fail("cell length has a non-positive or non-finite component");
 }
 
+template <int dim, class Phase>
+void write_contents(MPI_Comm comm, const FileContext& ctx, hid_t file, hid_t dxpl,
+                    const Configuration<dim>& c, const Slice& ps, const Slice& cs, Phase&& phase);
+
 /// Collective: writes the whole file at `temp` (closed on return or on throw).
+///
+/// Failure is collective too. A write can fail on one rank only (disk full, quota, EFBIG:
+/// MPI-IO reports the error on the rank whose write failed); that rank would leave, close the
+/// file (a collective H5Fclose) while the others enter the next collective write, and both
+/// would wait forever (issue 31: one rank in H5Fclose -> MPI_Barrier, the other in H5Dwrite ->
+/// MPI_Allreduce). So every phase below ends with an agreement (collectively(): an all-reduce
+/// of the outcome); on a failure every rank throws the same error at the same point, and the
+/// handles close in the same order everywhere.
 template <int dim>
 void write_file(MPI_Comm comm, const FileContext& ctx, const Configuration<dim>& c, const Slice& ps,
                 const Slice& cs) {
-  constexpr int rd = rot_dim<dim>, od = orient_dim<dim>;
-  auto fapl = mpio_fapl(ctx, comm);
-  auto file = h5::file_handle(
-      ctx.id(H5Fcreate(ctx.path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), "cannot create"));
-  auto dxpl = collective_dxpl(ctx);
+  auto phase = [comm](auto&& f) { collectively(comm, f); };
+  Handle fapl, file, dxpl;
+  phase([&] {
+    fapl = mpio_fapl(ctx, comm);
+    file = h5::file_handle(
+        ctx.id(H5Fcreate(ctx.path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), "cannot create"));
+    dxpl = collective_dxpl(ctx);
+  });
 
+  try {
+    write_contents(comm, ctx, file, dxpl, c, ps, cs, phase);
+    dxpl.reset();
+    // The flush writes HDF5's metadata: the last write, which can fail alone too. Done apart
+    // from the close, so that a failure leaves the file object intact (below).
+    phase([&] { ctx.rc(H5Fflush(file, H5F_SCOPE_LOCAL), "cannot flush the file"); });
+  } catch (...) {
+    // After a failed write, HDF5 1.10.8 cannot close the file (the close flushes again and
+    // fails, leaving a half-destroyed file object); its shutdown at MPI_Finalize would then
+    // segfault in H5F__close_cb, so the process ends without it (drivers/main.cpp, exit code
+    // 74). Closing here would not help: leave the file to the process's end. The temporary
+    // file is removed by the caller.
+    (void)file.release();
+    file_left_open() = true;
+    throw;
+  }
+  phase([&] {
+    if (!file.reset())
+      ctx.fail("cannot close the file", true);
+  });
+}
+
+/// write_file's datasets and attributes, each phase agreed on by every rank.
+template <int dim, class Phase>
+void write_contents(MPI_Comm comm, const FileContext& ctx, hid_t file, hid_t dxpl,
+                    const Configuration<dim>& c, const Slice& ps, const Slice& cs, Phase&& phase) {
+  constexpr int rd = rot_dim<dim>, od = orient_dim<dim>;
   // Root attributes (collective metadata: every rank passes the same values).
   const FileMeta& m = c.meta;
-  write_attribute(ctx, file, "format", std::string("granpack"));
-  write_attribute(ctx, file, "format_version", kHdf5FormatVersion);
-  write_attribute(ctx, file, "granpack_version",
-                  m.granpack_version.empty() ? std::string(GRANPACK_VERSION) : m.granpack_version);
-  write_attribute(ctx, file, "dimension", dim);
-  write_attribute(ctx, file, "n_particles", ps.global);
-  write_attribute(ctx, file, "n_contacts", cs.global);
-  write_attribute(ctx, file, "time", m.time);
-  write_attribute(ctx, file, "step", m.step);
-  write_attribute(ctx, file, "stage_index", m.stage_index);
-  write_attribute(ctx, file, "stage_name", m.stage_name);
-  write_attribute(ctx, file, "kind", m.kind.empty() ? std::string("configuration") : m.kind);
+  phase([&] {
+    write_attribute(ctx, file, "format", std::string("granpack"));
+    write_attribute(ctx, file, "format_version", kHdf5FormatVersion);
+    write_attribute(ctx, file, "granpack_version",
+                    m.granpack_version.empty() ? std::string(GRANPACK_VERSION) : m.granpack_version);
+    write_attribute(ctx, file, "dimension", dim);
+    write_attribute(ctx, file, "n_particles", ps.global);
+    write_attribute(ctx, file, "n_contacts", cs.global);
+    write_attribute(ctx, file, "time", m.time);
+    write_attribute(ctx, file, "step", m.step);
+    write_attribute(ctx, file, "stage_index", m.stage_index);
+    write_attribute(ctx, file, "stage_name", m.stage_name);
+    write_attribute(ctx, file, "kind", m.kind.empty() ? std::string("configuration") : m.kind);
+  });
 
-  // /deck (and /run_state in checkpoints): scalar fixed-length strings.
-  write_text_dataset(ctx, file, comm, "deck", m.deck_text);
-  if (!m.run_state.empty()) write_text_dataset(ctx, file, comm, "run_state", m.run_state);
-  if (m.parameters) write_parameters(ctx, file, *m.parameters, dim);
+  // /deck (and /run_state in checkpoints): scalar fixed-length strings, written by rank 0.
+  phase([&] { write_text_dataset(ctx, file, comm, "deck", m.deck_text); });
+  if (!m.run_state.empty()) phase([&] { write_text_dataset(ctx, file, comm, "run_state", m.run_state); });
+  if (m.parameters) phase([&] { write_parameters(ctx, file, *m.parameters, dim); });
 
   {
-    auto g = group_create(ctx, file, "cell");
+    Handle g;
+    phase([&] { g = group_create(ctx, file, "cell"); });
     const Slice whole{dim, 0, comm_rank(comm) == 0 ? dim : 0};
     std::vector<double> length(c.cell.length.data(), c.cell.length.data() + dim);
     std::vector<double> rate(c.cell.rate.data(), c.cell.rate.data() + dim);
-    write_rows(ctx, g, "/cell", "length", length, whole, 0, "m", dxpl);
-    write_rows(ctx, g, "/cell", "rate", rate, whole, 0, "m/s", dxpl);
+    phase([&] { write_rows(ctx, g, "/cell", "length", length, whole, 0, "m", dxpl); });
+    phase([&] { write_rows(ctx, g, "/cell", "rate", rate, whole, 0, "m/s", dxpl); });
   }
 
   {
     const auto& p = c.particles;
     const std::size_t n = static_cast<std::size_t>(ps.count);
-    auto g = group_create(ctx, file, "particles");
+    Handle g;
+    phase([&] { g = group_create(ctx, file, "particles"); });
     const std::string gn = "/particles";
-    std::vector<std::int64_t> id(p.id.begin(), p.id.begin() + n);
-    write_rows(ctx, g, gn, "id", id, ps, 0, "1", dxpl);
-    std::vector<double> v(p.radius.begin(), p.radius.begin() + n);
-    write_rows(ctx, g, gn, "radius", v, ps, 0, "m", dxpl);
-    v.assign(p.mass.begin(), p.mass.begin() + n);
-    write_rows(ctx, g, gn, "mass", v, ps, 0, "kg", dxpl);
-    v.assign(p.inertia.begin(), p.inertia.begin() + n);
-    write_rows(ctx, g, gn, "inertia", v, ps, 0, "kg m^2", dxpl);
-    write_rows(ctx, g, gn, "scaled_position", flatten(p.position, n), ps, dim, "1", dxpl);
+    // rows(NAME, VALUES, COLS, UNIT): one dataset of this group, agreed on by every rank.
+    auto rows = [&](const char* name, const auto& values, int cols, const char* unit) {
+      phase([&] { write_rows(ctx, g, gn, name, values, ps, cols, unit, dxpl); });
+    };
+    rows("id", std::vector<std::int64_t>(p.id.begin(), p.id.begin() + n), 0, "1");
+    rows("radius", std::vector<double>(p.radius.begin(), p.radius.begin() + n), 0, "m");
+    rows("mass", std::vector<double>(p.mass.begin(), p.mass.begin() + n), 0, "kg");
+    rows("inertia", std::vector<double>(p.inertia.begin(), p.inertia.begin() + n), 0, "kg m^2");
+    rows("scaled_position", flatten(p.position, n), dim, "1");
     std::vector<Vec<dim>> real(n);
     for (std::size_t i = 0; i < n; ++i)
       real[i] = c.cell.to_real(p.position[i]);
-    write_rows(ctx, g, gn, "position", flatten(real, n), ps, dim, "m", dxpl);
-    write_rows(ctx, g, gn, "velocity", flatten(p.velocity, n), ps, dim, "m/s", dxpl);
-    write_rows(ctx, g, gn, "angular_velocity", flatten(p.angular_velocity, n), ps, rd, "rad/s",
-               dxpl);
-    write_rows(ctx, g, gn, "orientation", flatten(p.orientation, n), ps, od, dim == 2 ? "rad" : "1",
-               dxpl);
+    rows("position", flatten(real, n), dim, "m");
+    rows("velocity", flatten(p.velocity, n), dim, "m/s");
+    rows("angular_velocity", flatten(p.angular_velocity, n), rd, "rad/s");
+    rows("orientation", flatten(p.orientation, n), od, dim == 2 ? "rad" : "1");
   }
-  run_write_hook("after_particles");
+  phase([] { run_write_hook("after_particles"); });  // tests: a failure on some ranks only
+  if (m.kind == "checkpoint") fault_point(FaultPoint::kCheckpointDatasets);
 
   {
     const auto& cst = c.contacts;
     const std::size_t nc = cst.size();
-    auto g = group_create(ctx, file, "contacts");
+    Handle g;
+    phase([&] { g = group_create(ctx, file, "contacts"); });
     const std::string gn = "/contacts";
     std::vector<std::int64_t> first(nc), second(nc), age(nc);
     std::vector<double> normal(nc), tangential, rolling;
@@ -794,17 +849,56 @@ void write_file(MPI_Comm comm, const FileContext& ctx, const Configuration<dim>&
       flags[k] = s.flags;
       age[k] = s.age;
     }
-    write_rows(ctx, g, gn, "first", first, cs, 0, "1", dxpl);
-    write_rows(ctx, g, gn, "second", second, cs, 0, "1", dxpl);
-    write_rows(ctx, g, gn, "normal_force", normal, cs, 0, "N", dxpl);
-    write_rows(ctx, g, gn, "tangential_force", tangential, cs, dim, "N", dxpl);
-    write_rows(ctx, g, gn, "rolling", rolling, cs, rd, "rad", dxpl);
-    write_rows(ctx, g, gn, "flags", flags, cs, 0, "1", dxpl);
-    write_rows(ctx, g, gn, "age", age, cs, 0, "steps", dxpl);
+    auto rows = [&](const char* name, const auto& values, int cols, const char* unit) {
+      phase([&] { write_rows(ctx, g, gn, name, values, cs, cols, unit, dxpl); });
+    };
+    rows("first", first, 0, "1");
+    rows("second", second, 0, "1");
+    rows("normal_force", normal, 0, "N");
+    rows("tangential_force", tangential, dim, "N");
+    rows("rolling", rolling, rd, "rad");
+    rows("flags", flags, 0, "1");
+    rows("age", age, 0, "steps");
   }
-  dxpl.reset();
-  if (!file.reset())
-    ctx.fail("cannot close (flush) the file", true);
+}
+
+/// Why a write into `file` most likely failed: HDF5 and MPI-IO report "file write failed"
+/// without the errno (Open MPI prints it on stderr, apart from our message). Looked up while
+/// the temporary file still takes its space: the file system nearly full, or a file size
+/// limit (ulimit -f). "" if neither (a quota, say).
+std::string likely_write_cause(const std::filesystem::path& file) {
+  const auto dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
+  struct statvfs v {};
+  if (::statvfs(dir.c_str(), &v) == 0) {
+    const unsigned long long free_bytes = static_cast<unsigned long long>(v.f_bavail) * v.f_frsize;
+    if (free_bytes < (1ULL << 20))
+      return "No space left on device (" + std::to_string(free_bytes / 1024) + " kB free in " +
+             dir.string() + ")";
+  }
+  struct rlimit r {};
+  if (::getrlimit(RLIMIT_FSIZE, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+    return "File too large (a file size limit, ulimit -f, of " +
+           std::to_string(static_cast<unsigned long long>(r.rlim_cur)) + " bytes)";
+  return "";
+}
+
+/// Collective. The message of a failed write (exit code 74, docs/long-jobs.md): the file, the
+/// cause, and what is left on disk (the temporary file removed, a previous file untouched).
+/// Removes the temporary file (rank 0), after looking up the likely cause.
+std::string fail_write(MPI_Comm comm, const std::filesystem::path& path,
+                       const std::filesystem::path& temp, const std::string& error) {
+  std::string cause;
+  if (comm_rank(comm) == 0) {
+    cause = likely_write_cause(temp);
+    std::error_code ec;
+    std::filesystem::remove(temp, ec);
+  }
+  broadcast_string(comm, cause);  // also the barrier: the temporary file is gone
+  std::error_code ec;
+  const bool previous = std::filesystem::exists(path, ec);
+  return "cannot write " + path.string() + ": " + (cause.empty() ? "" : cause + ": ") + error + "; " +
+         temp.filename().string() + " was removed" +
+         (previous ? ", the previous " + path.filename().string() + " is unchanged" : std::string());
 }
 
 /// This rank's rows [n*r/P, n*(r+1)/P) of n.
@@ -814,6 +908,8 @@ Slice even_slice(std::int64_t n, int rank, int size) {
 }
 
 } // namespace
+
+bool hdf5_file_left_open() { return file_left_open(); }
 
 namespace detail {
 void set_hdf5_write_hook(std::function<void(std::string_view)> hook) {
@@ -851,18 +947,23 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
   }
   try {
     err.raise_if_any(comm); // also the barrier: every rank has closed the file
-  } catch (...) {
-    if (rank == 0) {
-      std::error_code ec;
-      std::filesystem::remove(temp.path, ec);
-    }
-    MPI_Barrier(comm);
-    throw;
+  } catch (const Error& e) {
+    throw WriteError(fail_write(comm, path, temp.path, e.what()));
   }
+  if (c.meta.kind == "checkpoint") fault_point(FaultPoint::kCheckpointRename);
+  std::string failed;
+  if (rank == 0) {
+    try {
+      commit_temp_file(temp.path, path);
+    } catch (const Error& e) {
+      failed = e.what();
+    }
+  }
+  broadcast_string(comm, failed);
+  if (!failed.empty()) throw WriteError(fail_write(comm, path, temp.path, failed));
   collectively(comm, [&] {
     if (rank != 0)
       return;
-    commit_temp_file(temp.path, path);
     XdmfParticles x{path.filename().string(), dim, ps.global, c.meta.time};
     write_particles_xdmf(xdmf_path_for(path), x);
   });

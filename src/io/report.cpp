@@ -1,5 +1,7 @@
 #include "granpack/io/report.h"
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -93,10 +95,17 @@ std::string to_json(const RunReport& r) {
 void write_text_atomically(const std::filesystem::path& path, const std::string& text) {
   const auto tmp = temp_path_for(path);
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::trunc | std::ios::binary);
     out << text;
-    out.flush();
-    if (!out) throw Error("cannot write " + tmp.string());
+    out.close();
+    if (!out) {
+      const int e = errno;  // set by the failed write or close (ENOSPC, EDQUOT, EFBIG)
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw WriteError("cannot write " + path.string() + ": " + (e ? std::strerror(e) : "write failed") +
+                       "; " + tmp.filename().string() + " was removed");
+    }
   }
   commit_temp_file(tmp, path);
 }

@@ -1,5 +1,7 @@
 #include "granpack/io/xdmf.h"
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -75,13 +77,17 @@ std::string particles_xdmf(const XdmfParticles& p) {
 void write_particles_xdmf(const std::filesystem::path& xdmf_path, const XdmfParticles& p) {
   const auto temp = temp_path_for(xdmf_path);
   {
+    errno = 0;
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
     out << particles_xdmf(p);
     out.close();
     if (!out) {
+      const int e = errno;  // set by the failed write or close (ENOSPC, EDQUOT, EFBIG)
       std::error_code ec;
       std::filesystem::remove(temp, ec);
-      throw Error("cannot write " + temp.string());
+      throw WriteError("cannot write " + xdmf_path.string() + ": " +
+                       (e ? std::strerror(e) : "write failed") + "; " + temp.filename().string() +
+                       " was removed");
     }
   }
   commit_temp_file(temp, xdmf_path);

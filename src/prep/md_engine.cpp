@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/fault_injection.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
@@ -142,6 +143,7 @@ template <int dim> void MdEngine<dim>::step() {
   if (ctx_.checkpointer) bits |= ctx_.checkpointer->local_request(sys.step + 1);
   {
     ScopedPhase t(timers_.comm);
+    fault_point(FaultPoint::kCollective);
     MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, ctx_.world);
   }
   // A checkpoint inside a stage needs the stage's state (its frame); stages without one
@@ -169,6 +171,7 @@ template <int dim> void MdEngine<dim>::finish_step() {
   if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
   sys.time += dt;
   ++sys.step;
+  fault_point(FaultPoint::kStep, sys.step);
 }
 
 template <int dim> void MdEngine<dim>::check_sanity() {

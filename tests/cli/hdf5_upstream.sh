@@ -5,7 +5,9 @@
 # (src/io/hdf5_string_guard.cpp), so `granpack info` refuses each with exit code 2 and a
 # message naming the file and the attribute, within seconds and a 4 GiB address space.
 # End to end here, the one that needs the address-space cap (vlen_string_21GB.h5) on 2 ranks:
-# exit code 2, the message printed by rank 0, refused within 10 s. All three files, on 1 and 2
+# exit code 2 and the message printed by rank 0, not a hang (a hard timeout of 300 s, which
+# only a hang reaches: the refusal takes about half a second; the time is printed, not
+# asserted, so that a loaded machine cannot fail the test). All three files, on 1 and 2
 # ranks, are refused in-process with the same messages by every reader, `info`'s
 # describe_file on all ranks together included, within 5 s each and a 4 GiB cap
 # (tests/mpi/fuzz_inputs.cpp, FuzzRegressions.CorruptGlobalHeapsAreRefusedBeforeHdf5FollowsThem);
@@ -22,8 +24,8 @@ expect="variable-length string of 4294967041-byte characters"   # after "FILE: a
 f=$GRANPACK_SOURCE_DIR/tests/fuzz/hdf5_upstream/$name
 np=2
 t0=$(now)
-# timeout: a hang fails the test instead of stalling it; ulimit -v: so does a 21 GB allocation,
-# without taking the machine's memory. Under ASan, whose shadow memory needs terabytes of
+# timeout: a hang fails the test (exit 124, not 2) instead of stalling it; ulimit -v: so does
+# a 21 GB allocation, without taking the machine's memory. Under ASan, whose shadow memory needs terabytes of
 # address space, its allocator is capped at the same 4 GiB instead.
 capped() {
   (if [[ ${GRANPACK_SANITIZE:-} == *address* ]]; then
@@ -31,7 +33,7 @@ capped() {
    else ulimit -v 4194304; fi
    exec "$@")
 }
-check_exit "$name, $np rank(s)" 2 "$scratch/msg.txt" capped timeout 20 mpiexec -n $np "$GRANPACK_EXE" info "$f"
+check_exit "$name, $np rank(s)" 2 "$scratch/msg.txt" capped timeout 300 mpiexec -n $np "$GRANPACK_EXE" info "$f"
 secs=$(elapsed $t0)
 echo "$name on $np rank(s): exit $rc in $secs s"
 # The first line of the message, as rank 0 prints it.
@@ -40,6 +42,5 @@ check "$name, $np rank(s): the message names the file, the attribute and '$expec
   '[[ "$line" == *"$f: attribute /"*": "*"$expect"* ]]' || cat "$scratch/msg.txt"
 check "$name, $np rank(s): printed once (by rank 0)" '[ "$(grep -c "$f: " "$scratch/msg.txt")" -eq 1 ]' \
   || cat "$scratch/msg.txt"
-check "$name, $np rank(s): refused within 10 s ($secs s)" '! awk -v s=$secs "BEGIN { exit !(s > 10) }"'
 
 checks_done "hdf5 upstream"

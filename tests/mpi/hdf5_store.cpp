@@ -413,6 +413,29 @@ TYPED_TEST(Hdf5Store, FailedWriteLeavesThePreviousFileUntouched) {
     EXPECT_FALSE(fs::exists(temp_path_for(path))) << "temp file left behind";
   }
 
+  // A failure on the last rank only, as a full disk gives (MPI-IO reports it on the rank whose
+  // write failed): every rank stops together (no hang in the next collective write), with the
+  // write-failure code and a message naming the file.
+  detail::set_hdf5_write_hook([](std::string_view stage) {
+    if (stage == "after_particles" && world_rank() == world_size() - 1)
+      throw Error("simulated disk full");
+  });
+  thrown = false;
+  try {
+    write_configuration(MPI_COMM_WORLD, path, my_part(b, true));
+  } catch (const Error& e) {
+    thrown = e.exit_code() == kExitWriteFailed &&
+             std::string(e.what()).find("cannot write " + path.string() + ": ") == 0 &&
+             std::string(e.what()).find("simulated disk full") != std::string::npos;
+    if (!thrown) ADD_FAILURE() << e.exit_code() << ": " << e.what();
+  }
+  detail::set_hdf5_write_hook(nullptr);
+  EXPECT_TRUE(all_ranks(thrown));
+  if (world_rank() == 0) {
+    EXPECT_EQ(file_bytes(path), before) << "the previous file was modified";
+    EXPECT_FALSE(fs::exists(temp_path_for(path))) << "temp file left behind";
+  }
+
   // An inconsistent configuration (contact with a negative id on the last rank only).
   auto bad = my_part(b, true);
   if (world_rank() == world_size() - 1)

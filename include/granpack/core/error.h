@@ -1,8 +1,10 @@
 #pragma once
 // Error kinds and checks. Exit codes are part of the user interface (docs/cli.md):
 //   0 success; 1 runtime failure; 2 bad input (deck, command line, unreadable input file);
-//   3 feature not implemented yet; 75 stopped on request after writing a checkpoint
-//   (resubmit with --restart; 75 is EX_TEMPFAIL of sysexits.h: "try again later").
+//   3 feature not implemented yet; 74 a file could not be written (disk full, quota, file
+//   size limit: EX_IOERR of sysexits.h; the previous checkpoint is intact); 75 stopped on
+//   request after writing a checkpoint (resubmit with --restart; 75 is EX_TEMPFAIL of
+//   sysexits.h: "try again later").
 // Which ranks know about an error matters under MPI (docs/ARCHITECTURE.md, "Errors"):
 // errors known on every rank are thrown from code all ranks run; errors seen on one rank
 // are recorded and all-reduced at a sync point (comm/collective_error.h).
@@ -17,6 +19,7 @@ enum ExitCode : int {
   kExitFailure = 1,
   kExitBadInput = 2,
   kExitNotImplemented = 3,
+  kExitWriteFailed = 74,
   kExitCheckpointed = 75,
 };
 
@@ -41,6 +44,13 @@ public:
 class NotImplemented : public Error {
 public:
   explicit NotImplemented(const std::string& what) : Error(what, kExitNotImplemented) {}
+};
+
+/// An output file could not be written (no space left, quota, EFBIG): exit code 74. Thrown on
+/// every rank together, after the temporary file was removed (docs/long-jobs.md).
+class WriteError : public Error {
+public:
+  explicit WriteError(const std::string& what) : Error(what, kExitWriteFailed) {}
 };
 
 /// Not a failure: the run stopped on a signal after writing a checkpoint (exit code 75).

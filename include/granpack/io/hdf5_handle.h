@@ -38,6 +38,8 @@ public:
   hid_t get() const { return id_; }
   operator hid_t() const { return id_; } // NOLINT: used directly in H5 calls
   bool valid() const { return id_ >= 0; }
+  /// Gives up ownership without closing; returns the id.
+  hid_t release() { return std::exchange(id_, H5I_INVALID_HID); }
   /// Closes now; returns false if H5?close failed (the id is released either way).
   bool reset() {
     bool ok = true;

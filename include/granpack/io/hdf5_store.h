@@ -81,6 +81,11 @@ FileMeta read_file_meta(MPI_Comm comm, const std::filesystem::path& path);
 /// kind, dimension, particles, contacts, cell lengths and rates, time, step, stage, version.
 std::string describe_file(MPI_Comm comm, const std::filesystem::path& path);
 
+/// True after a failed write left an HDF5 file open on this rank (on every rank: write failures
+/// are collective). HDF5 1.10.8 cannot close it and segfaults when its shutdown at
+/// MPI_Finalize tries: the process must end without MPI_Finalize (drivers/main.cpp).
+bool hdf5_file_left_open();
+
 namespace detail {
 /// Test hook: if set, write_configuration calls it on every rank at named points of the write
 /// ("after_particles", "before_rename"); throwing from it simulates a failure there.

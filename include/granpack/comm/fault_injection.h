@@ -1,0 +1,44 @@
+#pragma once
+// Deterministic fault injection, a test-only hook (docs/long-jobs.md, "Fault injection").
+//
+//   GRANPACK_FAULT=<point>[:<count>][@<rank>]
+//
+// makes a rank kill itself with SIGKILL (as `kill -9` or a node failure would) at a named
+// point of the code, so a test of checkpoint safety kills exactly where it means to, on any
+// machine load, instead of sleeping and hoping. Points:
+//   checkpoint_datasets  inside a checkpoint write: after the particle datasets, before the
+//                        contact datasets (the temporary file is half written);
+//   checkpoint_rename    after every rank has closed a complete temporary checkpoint file,
+//                        before rank 0 renames it over the previous one;
+//   collective           entering the all-reduce every MD step performs (the other ranks are
+//                        inside it, waiting for this one);
+//   step                 when the step counter (the run's, stored in checkpoints) reaches count.
+// count: the count-th time this process reaches the point (default 1); for `step`, the step
+// number. @rank: only that rank of MPI_COMM_WORLD (default: every rank that reaches the
+// point). The variable is read once, by arm_fault_injection() at start-up; unset, each point
+// costs one test of a global flag.
+#include <mpi.h>
+
+#include <cstdint>
+
+namespace granpack {
+
+enum class FaultPoint { kCheckpointDatasets, kCheckpointRename, kCollective, kStep };
+
+/// Collective in effect (every rank reads the same environment): parses GRANPACK_FAULT, if
+/// set, and arms the point for this rank. Throws InputError (exit 2) on a malformed value.
+void arm_fault_injection(MPI_Comm world);
+
+namespace detail {
+extern bool g_fault_armed;
+void fault_reached(FaultPoint point, std::int64_t step);
+}  // namespace detail
+
+/// Kills this process (SIGKILL) if GRANPACK_FAULT names this point and its count is reached.
+/// `step`: the step counter, for FaultPoint::kStep.
+inline void fault_point(FaultPoint point, std::int64_t step = 0) {
+  if (detail::g_fault_armed) [[unlikely]]
+    detail::fault_reached(point, step);
+}
+
+}  // namespace granpack
