@@ -17,7 +17,7 @@
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/state_parameters.h"
-#include "granpack/prep/run_deck.h"
+#include "granpack/app/run_deck.h"
 #include "test_paths.h"
 
 using namespace granpack;

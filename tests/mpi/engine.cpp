@@ -11,10 +11,10 @@
 #include "granpack/comm/reduce.h"
 #include "granpack/dynamics/integrator.h"
 #include "granpack/io/deck.h"
-#include "granpack/prep/material_law.h"
-#include "granpack/prep/md_engine.h"
-#include "granpack/prep/run_deck.h"
-#include "granpack/prep/stages.h"
+#include "granpack/engine/material_law.h"
+#include "granpack/engine/md_engine.h"
+#include "granpack/app/run_deck.h"
+#include "granpack/stages/stages.h"
 #include "test_paths.h"
 
 using namespace granpack;

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "granpack/app/packing_view.h"
+#include "granpack/packing/packing_view.h"
 
 namespace granpack {
 
