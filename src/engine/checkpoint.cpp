@@ -6,7 +6,7 @@
 
 #include "granpack/core/error.h"
 #include "granpack/engine/run_context.h"
-#include "granpack/stages/stages.h"
+#include "granpack/engine/state_file.h"
 #include "granpack/engine/stop_signals.h"
 
 namespace granpack {

@@ -10,7 +10,7 @@
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/dynamics/integrator.h"
-#include "granpack/stages/stages.h"
+#include "granpack/engine/state_file.h"
 
 namespace granpack {
 

@@ -4,22 +4,11 @@
 // (e.g. [AR] procedure C from a stored A state).
 #include <sstream>
 
-#include "granpack/comm/migration.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/stages/stages.h"
 
 namespace granpack {
-
-template <int dim>
-void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c, const std::array<int, dim>* grid) {
-  ctx.system.cell = c.cell;
-  ctx.system.particles = std::move(c.particles);
-  ctx.system.contacts = std::move(c.contacts);
-  ctx.decomposition = grid ? std::make_unique<Decomposition<dim>>(ctx.world, *grid)
-                           : std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
-  distribute(ctx.system, *ctx.decomposition);
-}
 
 template <int dim> StageReport run_read(RunContext<dim>& ctx, const ReadStage& r) {
   GRANPACK_CHECK(ctx.system.particles.size() == 0,
@@ -44,8 +33,6 @@ template <int dim> StageReport run_read(RunContext<dim>& ctx, const ReadStage& r
   return StageReport{};
 }
 
-template void adopt_configuration<2>(RunContext<2>&, Configuration<2>&&, const std::array<int, 2>*);
-template void adopt_configuration<3>(RunContext<3>&, Configuration<3>&&, const std::array<int, 3>*);
 template StageReport run_read<2>(RunContext<2>&, const ReadStage&);
 template StageReport run_read<3>(RunContext<3>&, const ReadStage&);
 

@@ -6,6 +6,7 @@
 #include "granpack/io/deck.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/engine/run_context.h"
+#include "granpack/engine/state_file.h"
 
 namespace granpack {
 
@@ -23,18 +24,7 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
 template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const AggregateStage& p);
 template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenStage& p);
 
-/// Makes a configuration read from a file the sample: grains, contacts and cell (rate kept),
-/// a domain decomposition (the given grid, else one chosen from the cell's shape) and the
-/// grains and contacts moved to their spatial owners. Collective. Used by `read` and restarts.
-template <int dim> void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
-                                            const std::array<int, dim>* grid = nullptr);
-
 /// Removes the overlaps of randomly placed grains (fixed cell, soft repulsion, quench).
 template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx);
-
-/// Writes the current state as an HDF5 configuration file (with its XDMF sidecar); with a
-/// run_state (prep/checkpoint.h) the file is a checkpoint.
-template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
-                                    const std::string& run_state = {});
 
 }  // namespace granpack
