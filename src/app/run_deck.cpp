@@ -111,25 +111,8 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
     ctx.stage_name = st.name;
     log.info("stage " + std::to_string(st.index) + " '" + st.name + "' (" + st.kind + ")");
     auto t0 = std::chrono::steady_clock::now();
-    StageReport r = std::visit(
-        [&](const auto& p) -> StageReport {
-          using P = std::decay_t<decltype(p)>;
-          if constexpr (std::is_same_v<P, LatticeStage>) return run_lattice(ctx, p);
-          else if constexpr (std::is_same_v<P, RandomStage>) return run_random(ctx, p);
-          else if constexpr (std::is_same_v<P, CompressStage>) return run_compress(ctx, p);
-          else if constexpr (std::is_same_v<P, SetStage>) return run_set(ctx, p);
-          else if constexpr (std::is_same_v<P, WriteStage>) return run_write(ctx, p);
-          else if constexpr (std::is_same_v<P, ReadStage>) return run_read(ctx, p);
-          else if constexpr (std::is_same_v<P, EdGasStage>) return run_ed_gas(ctx, p);
-          else if constexpr (std::is_same_v<P, LsCompressStage>) return run_ls_compress(ctx, p);
-          else if constexpr (std::is_same_v<P, ExpandStage>) return run_expand(ctx, p);
-          else if constexpr (std::is_same_v<P, PressureStepsStage>) return run_pressure_steps(ctx, p);
-          else if constexpr (std::is_same_v<P, FixRattlersStage>) return run_fix_rattlers(ctx, p);
-          else if constexpr (std::is_same_v<P, AggregateStage>) return run_aggregate(ctx, p);
-          else if constexpr (std::is_same_v<P, StiffenStage>) return run_stiffen(ctx, p);
-          else static_assert(sizeof(P) == 0, "a stage kind without a runner");
-        },
-        st.params);
+    // The runner of the stage's kind (stages/stages.h; the registry: io/stage_params.h).
+    StageReport r = std::visit([&](const auto& p) { return run_stage(ctx, p); }, st.params);
     GRANPACK_CHECK(ctx.resume.empty() && !ctx.resume_mid_step,
                    "stage " << st.index << " did not consume the checkpoint's resume state");
     r.name = st.name;

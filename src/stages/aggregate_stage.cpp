@@ -56,7 +56,7 @@ template <int dim> std::int64_t clusters_of(RunContext<dim>& ctx, const MdEngine
 
 }  // namespace
 
-template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const AggregateStage& g) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const AggregateStage& g) {
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
   const auto& sample = ctx.deck->sample;
@@ -200,7 +200,7 @@ template <int dim> StageReport run_aggregate(RunContext<dim>& ctx, const Aggrega
   return r;
 }
 
-template StageReport run_aggregate<2>(RunContext<2>&, const AggregateStage&);
-template StageReport run_aggregate<3>(RunContext<3>&, const AggregateStage&);
+template StageReport run_stage<2>(RunContext<2>&, const AggregateStage&);
+template StageReport run_stage<3>(RunContext<3>&, const AggregateStage&);
 
 }  // namespace granpack

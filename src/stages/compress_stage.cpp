@@ -39,7 +39,7 @@ std::string progress_line(std::int64_t step, double t, double phi, const Equilib
 }
 }  // namespace
 
-template <int dim> StageReport run_compress(RunContext<dim>& ctx, const CompressStage& c) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressStage& c) {
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
   const auto& sample = ctx.deck->sample;
@@ -241,7 +241,7 @@ template <int dim> StageReport run_compress(RunContext<dim>& ctx, const Compress
   return r;
 }
 
-template StageReport run_compress<2>(RunContext<2>&, const CompressStage&);
-template StageReport run_compress<3>(RunContext<3>&, const CompressStage&);
+template StageReport run_stage<2>(RunContext<2>&, const CompressStage&);
+template StageReport run_stage<3>(RunContext<3>&, const CompressStage&);
 
 }  // namespace granpack

@@ -11,7 +11,7 @@
 
 namespace granpack {
 
-template <int dim> StageReport run_expand(RunContext<dim>& ctx, const ExpandStage& e) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const ExpandStage& e) {
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index << " (" << ctx.stage_name
                                              << "): there is no sample to expand yet");
   const double phi0 = ctx.solid_fraction();
@@ -30,7 +30,7 @@ template <int dim> StageReport run_expand(RunContext<dim>& ctx, const ExpandStag
   return StageReport{};
 }
 
-template StageReport run_expand<2>(RunContext<2>&, const ExpandStage&);
-template StageReport run_expand<3>(RunContext<3>&, const ExpandStage&);
+template StageReport run_stage<2>(RunContext<2>&, const ExpandStage&);
+template StageReport run_stage<3>(RunContext<3>&, const ExpandStage&);
 
 }  // namespace granpack

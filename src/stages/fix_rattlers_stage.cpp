@@ -60,7 +60,7 @@ std::vector<GlobalId> all_ids(MPI_Comm comm, const std::vector<GlobalId>& mine) 
 
 }  // namespace
 
-template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixRattlersStage& f) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlersStage& f) {
   const double P = f.pressure ? *f.pressure : ctx.stress_target.pressure;
   GRANPACK_CHECK(ctx.decomposition && P > 0,
                  "stage " << ctx.stage_index << " (" << ctx.stage_name
@@ -223,7 +223,7 @@ template <int dim> StageReport run_fix_rattlers(RunContext<dim>& ctx, const FixR
   return r;
 }
 
-template StageReport run_fix_rattlers<2>(RunContext<2>&, const FixRattlersStage&);
-template StageReport run_fix_rattlers<3>(RunContext<3>&, const FixRattlersStage&);
+template StageReport run_stage<2>(RunContext<2>&, const FixRattlersStage&);
+template StageReport run_stage<3>(RunContext<3>&, const FixRattlersStage&);
 
 }  // namespace granpack

@@ -183,7 +183,7 @@ template <int dim> void require_sample(const RunContext<dim>& ctx) {
 
 }  // namespace
 
-template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage& e) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage& e) {
   require_sample(ctx);
   int rank = 0;
   MPI_Comm_rank(ctx.world, &rank);
@@ -266,7 +266,7 @@ template <int dim> StageReport run_ed_gas(RunContext<dim>& ctx, const EdGasStage
   return r;
 }
 
-template <int dim> StageReport run_ls_compress(RunContext<dim>& ctx, const LsCompressStage& l) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressStage& l) {
   require_sample(ctx);
   int rank = 0;
   MPI_Comm_rank(ctx.world, &rank);
@@ -378,9 +378,9 @@ template <int dim> StageReport run_ls_compress(RunContext<dim>& ctx, const LsCom
   return r;
 }
 
-template StageReport run_ed_gas<2>(RunContext<2>&, const EdGasStage&);
-template StageReport run_ed_gas<3>(RunContext<3>&, const EdGasStage&);
-template StageReport run_ls_compress<2>(RunContext<2>&, const LsCompressStage&);
-template StageReport run_ls_compress<3>(RunContext<3>&, const LsCompressStage&);
+template StageReport run_stage<2>(RunContext<2>&, const EdGasStage&);
+template StageReport run_stage<3>(RunContext<3>&, const EdGasStage&);
+template StageReport run_stage<2>(RunContext<2>&, const LsCompressStage&);
+template StageReport run_stage<3>(RunContext<3>&, const LsCompressStage&);
 
 }  // namespace granpack

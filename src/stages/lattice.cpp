@@ -11,7 +11,7 @@
 
 namespace granpack {
 
-template <int dim> StageReport run_lattice(RunContext<dim>& ctx, const LatticeStage& p) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LatticeStage& p) {
   const double a = ctx.deck->sample.diameter;
   const double pi = std::numbers::pi;
   GRANPACK_CHECK(ctx.system.particles.size() == 0,
@@ -67,7 +67,7 @@ template <int dim> StageReport run_lattice(RunContext<dim>& ctx, const LatticeSt
   return StageReport{};
 }
 
-template StageReport run_lattice<2>(RunContext<2>&, const LatticeStage&);
-template StageReport run_lattice<3>(RunContext<3>&, const LatticeStage&);
+template StageReport run_stage<2>(RunContext<2>&, const LatticeStage&);
+template StageReport run_stage<3>(RunContext<3>&, const LatticeStage&);
 
 }  // namespace granpack

@@ -12,7 +12,7 @@
 
 namespace granpack {
 
-template <int dim> StageReport run_pressure_steps(RunContext<dim>& ctx, const PressureStepsStage& ps) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const PressureStepsStage& ps) {
   std::vector<double> stress0 = ctx.stress_target.stress;
   const std::vector<bool> fixed0 = ctx.stress_target.fixed;
   double p0 = ctx.stress_target.pressure;
@@ -48,7 +48,7 @@ template <int dim> StageReport run_pressure_steps(RunContext<dim>& ctx, const Pr
     std::ostringstream os;
     os << "  level " << k << "/" << ps.count << ": P = " << c.pressure << " Pa";
     ctx.log->info(os.str());
-    StageReport level = run_compress(ctx, c);
+    StageReport level = run_stage(ctx, c);
     level.name = ctx.stage_name + "_" + std::to_string(k);
     level.kind = "compress";
     if (ps.write) {
@@ -71,7 +71,7 @@ template <int dim> StageReport run_pressure_steps(RunContext<dim>& ctx, const Pr
   return r;
 }
 
-template StageReport run_pressure_steps<2>(RunContext<2>&, const PressureStepsStage&);
-template StageReport run_pressure_steps<3>(RunContext<3>&, const PressureStepsStage&);
+template StageReport run_stage<2>(RunContext<2>&, const PressureStepsStage&);
+template StageReport run_stage<3>(RunContext<3>&, const PressureStepsStage&);
 
 }  // namespace granpack

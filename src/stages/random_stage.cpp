@@ -2,7 +2,7 @@
 // at rest, without overlaps. Two placements:
 //  - relax (default): positions drawn uniformly (overlaps allowed), then the overlaps removed
 //    by damped, frictionless MD at fixed cell with a soft linear repulsion
-//    (prep/overlap_removal) until the largest overlap is below 1e-9 of a radius. Unlike random
+//    (stages/overlap_removal) until the largest overlap is below 1e-9 of a radius. Unlike random
 //    sequential addition, which jams near Phi = 0.38 in 3D, this reaches the gas densities the
 //    protocols need (Phi = 0.45 in [AR]), but leaves the formerly overlapping pairs touching.
 //  - sequential: random sequential addition (neighbor/sequential_placement), no contacts; the
@@ -18,7 +18,7 @@
 
 namespace granpack {
 
-template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStage& p) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const RandomStage& p) {
   const auto& sample = ctx.deck->sample;
   GRANPACK_CHECK(ctx.system.particles.size() == 0,
                  "stage " << ctx.stage_index << " (random) needs an empty sample");
@@ -68,7 +68,7 @@ template <int dim> StageReport run_random(RunContext<dim>& ctx, const RandomStag
   return StageReport{};
 }
 
-template StageReport run_random<2>(RunContext<2>&, const RandomStage&);
-template StageReport run_random<3>(RunContext<3>&, const RandomStage&);
+template StageReport run_stage<2>(RunContext<2>&, const RandomStage&);
+template StageReport run_stage<3>(RunContext<3>&, const RandomStage&);
 
 }  // namespace granpack

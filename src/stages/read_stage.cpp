@@ -10,7 +10,7 @@
 
 namespace granpack {
 
-template <int dim> StageReport run_read(RunContext<dim>& ctx, const ReadStage& r) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const ReadStage& r) {
   GRANPACK_CHECK(ctx.system.particles.size() == 0,
                  "stage " << ctx.stage_index << " (read) needs an empty sample: it must come first");
   const FileMeta meta = read_file_meta(ctx.world, r.file);
@@ -33,7 +33,7 @@ template <int dim> StageReport run_read(RunContext<dim>& ctx, const ReadStage& r
   return StageReport{};
 }
 
-template StageReport run_read<2>(RunContext<2>&, const ReadStage&);
-template StageReport run_read<3>(RunContext<3>&, const ReadStage&);
+template StageReport run_stage<2>(RunContext<2>&, const ReadStage&);
+template StageReport run_stage<3>(RunContext<3>&, const ReadStage&);
 
 }  // namespace granpack

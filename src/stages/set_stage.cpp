@@ -5,7 +5,7 @@
 
 namespace granpack {
 
-template <int dim> StageReport run_set(RunContext<dim>& ctx, const SetStage& p) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const SetStage& p) {
   std::ostringstream os;
   os << "  set:";
   if (p.friction) {
@@ -20,7 +20,7 @@ template <int dim> StageReport run_set(RunContext<dim>& ctx, const SetStage& p) 
   return StageReport{};
 }
 
-template StageReport run_set<2>(RunContext<2>&, const SetStage&);
-template StageReport run_set<3>(RunContext<3>&, const SetStage&);
+template StageReport run_stage<2>(RunContext<2>&, const SetStage&);
+template StageReport run_stage<3>(RunContext<3>&, const SetStage&);
 
 }  // namespace granpack

@@ -20,7 +20,7 @@
 
 namespace granpack {
 
-template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenStage& g) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const StiffenStage& g) {
   using clock = std::chrono::steady_clock;
   const auto t0 = clock::now();
   const auto& sample = ctx.deck->sample;
@@ -113,7 +113,7 @@ template <int dim> StageReport run_stiffen(RunContext<dim>& ctx, const StiffenSt
   return r;
 }
 
-template StageReport run_stiffen<2>(RunContext<2>&, const StiffenStage&);
-template StageReport run_stiffen<3>(RunContext<3>&, const StiffenStage&);
+template StageReport run_stage<2>(RunContext<2>&, const StiffenStage&);
+template StageReport run_stage<3>(RunContext<3>&, const StiffenStage&);
 
 }  // namespace granpack

@@ -5,7 +5,7 @@
 
 namespace granpack {
 
-template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage& p) {
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const WriteStage& p) {
   GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index
                                              << " (write): there is no sample yet; put a "
                                                 "lattice or random stage before it");
@@ -14,7 +14,7 @@ template <int dim> StageReport run_write(RunContext<dim>& ctx, const WriteStage&
   return StageReport{};
 }
 
-template StageReport run_write<2>(RunContext<2>&, const WriteStage&);
-template StageReport run_write<3>(RunContext<3>&, const WriteStage&);
+template StageReport run_stage<2>(RunContext<2>&, const WriteStage&);
+template StageReport run_stage<3>(RunContext<3>&, const WriteStage&);
 
 }  // namespace granpack

@@ -88,6 +88,15 @@ TEST(Deck, ParsesEveryKeyWithDefaults) {
   EXPECT_EQ(d.text, kGood);
 }
 
+// The registry (io/stage_params.h) lists the kinds in documentation order (an unknown kind is
+// refused with this list: tests/decks/bad/unknown_stage.toml).
+TEST(Deck, StageKindsAreTheRegistryInDocumentationOrder) {
+  const std::vector<std::string> documented = {
+      "lattice", "random", "read", "ed_gas", "ls_compress", "expand", "compress",
+      "pressure_steps", "fix_rattlers", "set", "write", "aggregate", "stiffen"};
+  EXPECT_EQ(stage_kinds(), documented);
+}
+
 TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
   std::string good = kGood;
   auto with = [&](const std::string& from, const std::string& to) {

@@ -155,7 +155,7 @@ Snapshot run_dense(MPI_Comm comm, int steps, Vec<3>* momentum_before = nullptr,
   ctx.deck = &deck;
   ctx.contact_law = contact_law_params(deck.material);
   ctx.log = &log;
-  run_lattice(ctx, std::get<LatticeStage>(deck.stages[0].params));
+  run_stage(ctx, std::get<LatticeStage>(deck.stages[0].params));
   ctx.system.cell.length *= 0.99;
   auto& p = ctx.system.particles;
   for (std::size_t i = 0; i < p.n_owned(); ++i) {
