@@ -18,8 +18,8 @@
 #include "granpack/comm/fault_injection.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
-#include "granpack/prep/ensemble_run.h"
-#include "granpack/prep/run_deck.h"
+#include "granpack/app/ensemble_run.h"
+#include "granpack/app/run_deck.h"
 
 namespace {
 

@@ -32,8 +32,8 @@
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/io/log.h"
-#include "granpack/prep/material_law.h"
-#include "granpack/prep/md_engine.h"
+#include "granpack/engine/material_law.h"
+#include "granpack/engine/md_engine.h"
 
 namespace granpack {
 

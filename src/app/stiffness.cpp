@@ -16,7 +16,7 @@
 
 #include "granpack/analysis/force_statistics.h"
 #include "granpack/app/analysis_sections.h"
-#include "granpack/app/packing_view.h"
+#include "granpack/packing/packing_view.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/derived_constants.h"
 #include "granpack/io/hdf5_store.h"

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "granpack/app/analyze.h"
-#include "granpack/prep/run_deck.h"
+#include "granpack/app/run_deck.h"
 #include "test_paths.h"
 
 using namespace granpack;

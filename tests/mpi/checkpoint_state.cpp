@@ -11,7 +11,7 @@
 
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
-#include "granpack/prep/checkpoint.h"
+#include "granpack/engine/checkpoint.h"
 
 namespace granpack {
 namespace {

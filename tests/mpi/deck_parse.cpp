@@ -17,7 +17,7 @@
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/state_parameters.h"
-#include "granpack/prep/run_deck.h"
+#include "granpack/app/run_deck.h"
 #include "test_paths.h"
 
 using namespace granpack;
@@ -86,6 +86,15 @@ TEST(Deck, ParsesEveryKeyWithDefaults) {
   EXPECT_DOUBLE_EQ(*std::get<SetStage>(d.stages[1].params).friction, 0.15);
   EXPECT_EQ(std::get<WriteStage>(d.stages[2].params).file, "a.h5");
   EXPECT_EQ(d.text, kGood);
+}
+
+// The registry (io/stage_params.h) lists the kinds in documentation order (an unknown kind is
+// refused with this list: tests/decks/bad/unknown_stage.toml).
+TEST(Deck, StageKindsAreTheRegistryInDocumentationOrder) {
+  const std::vector<std::string> documented = {
+      "lattice", "random", "read", "ed_gas", "ls_compress", "expand", "compress",
+      "pressure_steps", "fix_rattlers", "set", "write", "aggregate", "stiffen"};
+  EXPECT_EQ(stage_kinds(), documented);
 }
 
 TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {

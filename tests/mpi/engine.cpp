@@ -11,10 +11,10 @@
 #include "granpack/comm/reduce.h"
 #include "granpack/dynamics/integrator.h"
 #include "granpack/io/deck.h"
-#include "granpack/prep/material_law.h"
-#include "granpack/prep/md_engine.h"
-#include "granpack/prep/run_deck.h"
-#include "granpack/prep/stages.h"
+#include "granpack/engine/material_law.h"
+#include "granpack/engine/md_engine.h"
+#include "granpack/app/run_deck.h"
+#include "granpack/stages/stages.h"
 #include "test_paths.h"
 
 using namespace granpack;
@@ -155,7 +155,7 @@ Snapshot run_dense(MPI_Comm comm, int steps, Vec<3>* momentum_before = nullptr,
   ctx.deck = &deck;
   ctx.contact_law = contact_law_params(deck.material);
   ctx.log = &log;
-  run_lattice(ctx, std::get<LatticeStage>(deck.stages[0].params));
+  run_stage(ctx, std::get<LatticeStage>(deck.stages[0].params));
   ctx.system.cell.length *= 0.99;
   auto& p = ctx.system.particles;
   for (std::size_t i = 0; i < p.n_owned(); ++i) {

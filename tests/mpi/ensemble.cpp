@@ -10,7 +10,7 @@
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/deck_seed.h"
-#include "granpack/prep/ensemble_run.h"
+#include "granpack/app/ensemble_run.h"
 #include "mpi_world.h"
 #include "test_paths.h"
 

@@ -15,11 +15,11 @@
 
 #include "mpi_world.h"
 #include "granpack/analysis/rigidity_blocks.h"
-#include "granpack/app/packing_view.h"
+#include "granpack/packing/packing_view.h"
 #include "granpack/app/stiffness.h"
 #include "granpack/io/hdf5_store.h"
-#include "granpack/prep/material_law.h"
-#include "granpack/prep/run_deck.h"
+#include "granpack/engine/material_law.h"
+#include "granpack/app/run_deck.h"
 #include "granpack/rigidity/stiffness_system.h"
 #include "test_paths.h"
 

@@ -6,7 +6,7 @@
 // their neighbours rattlers, so the rule is iterated to a fixed point.
 //
 // The kernels here work on one rank's contacts (local indices i, j of its particle store,
-// ghosts included); the distributed iteration (prep/state_metrics) sums counts over ranks
+// ghosts included); the distributed iteration (stages/state_metrics) sums counts over ranks
 // between calls. MPI-free.
 #include <cstddef>
 #include <cstdint>

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "granpack/analysis/force_sign_classes.h"
-#include "granpack/app/packing_view.h"
+#include "granpack/packing/packing_view.h"
 
 namespace granpack {
 

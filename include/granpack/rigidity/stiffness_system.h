@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "granpack/analysis/rigidity_blocks.h"
-#include "granpack/app/packing_view.h"
+#include "granpack/packing/packing_view.h"
 #include "granpack/rigidity/grain_numbering.h"
 #include "granpack/rigidity/petsc_support.h"
 

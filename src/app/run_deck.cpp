@@ -1,0 +1,241 @@
+#include "granpack/app/run_deck.h"
+
+#include <chrono>
+#include <sstream>
+
+#include "granpack/comm/broadcast.h"
+#include "granpack/comm/collective_error.h"
+#include "granpack/core/error.h"
+#include "granpack/io/deck.h"
+#include "granpack/io/deck_seed.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/engine/checkpoint.h"
+#include "granpack/stages/stages.h"
+#include "granpack/engine/stop_signals.h"
+
+namespace granpack {
+
+/// Reads the deck on rank 0 and broadcasts its text, so all ranks validate the same bytes
+/// and throw the same InputError together; with `seed`, the deck reseeded (deck_seed.h).
+Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path,
+                            std::optional<std::uint64_t> seed) {
+  int rank = 0;
+  MPI_Comm_rank(world, &rank);
+  std::string text;
+  int ok = 1;
+  if (rank == 0) {
+    try {
+      text = read_deck_text(path);
+    } catch (const InputError& e) {
+      text = e.what();
+      ok = 0;
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, world);
+  broadcast_string(world, text);
+  if (!ok) throw InputError(text);  // on every rank, same message
+  if (seed) text = reseeded_deck_text(text, path.string(), *seed);
+  return parse_deck(text, path.string());
+}
+
+namespace {
+
+std::string fmt_opt(const std::optional<double>& v) {
+  if (!v) return "-";
+  std::ostringstream os;
+  os.precision(6);
+  os << *v;
+  return os.str();
+}
+
+/// Restores the state a checkpoint holds: grains, contacts, cell, time and step, the domain
+/// grid (the same one on the same rank count), the RunContext's contact law and stress target
+/// (its /parameters) and the frames of the stages in progress.
+template <int dim> void restore(RunContext<dim>& ctx, const std::filesystem::path& file,
+                                const RunState& state) {
+  Configuration<dim> c = read_configuration<dim>(ctx.world, file);
+  if (c.meta.parameters) {
+    ctx.contact_law = c.meta.parameters->contact_law;
+    ctx.stress_target = c.meta.parameters->stress_target;
+  } else if (state.legacy) {
+    const StateParameters p = legacy_parameters(state, *ctx.deck);
+    ctx.contact_law = p.contact_law;
+    ctx.stress_target = p.stress_target;
+    ctx.log->info("  " + file.string() + " was written before checkpoints held /parameters: the "
+                  "contact law is the deck's [material] with the changes its run state records");
+  } else {
+    throw InputError(file.string() + ": a checkpoint of run_state format 2 without the group "
+                                     "/parameters (corrupt file)");
+  }
+  ctx.system.time = c.meta.time;
+  ctx.system.step = c.meta.step;
+  int size = 1;
+  MPI_Comm_size(ctx.world, &size);
+  std::array<int, dim> grid{};
+  const bool same_grid = size == state.ranks && state.grid.size() == dim;
+  if (same_grid) std::copy(state.grid.begin(), state.grid.end(), grid.begin());
+  const std::array<int, dim>* chosen = same_grid ? &grid : nullptr;
+  adopt_configuration<dim>(ctx, std::move(c), chosen);
+  ctx.resume.assign(state.frames.begin(), state.frames.end());
+  ctx.resume_mid_step = state.mid_stage;
+}
+
+template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
+                                   const std::filesystem::path& out, RunReport& report,
+                                   Checkpointer& checkpointer, const RunOptions& options,
+                                   const std::optional<RunState>& state) {
+  RunContext<dim> ctx;
+  ctx.world = world;
+  ctx.deck = &deck;
+  ctx.contact_law = contact_law_params(deck.material);
+  ctx.log = &log;
+  ctx.output_dir = out;
+  ctx.checkpointer = &checkpointer;
+  checkpointer.completed = &report.stages;
+  std::size_t first = 0;
+  if (state) {
+    restore(ctx, *options.restart, *state);
+    report.stages = state->completed;
+    checkpointer.earlier_wall_seconds = state->wall_seconds;
+    first = static_cast<std::size_t>(state->stage_index);
+    log.info("restart from " + options.restart->string() + " at step " +
+             std::to_string(ctx.system.step) + ": " +
+             (first < deck.stages.size()
+                  ? (state->mid_stage ? "inside" : "at the start of") + std::string(" stage ") +
+                        std::to_string(first) + " '" + deck.stages[first].name + "'"
+                  : std::string("every stage is done")));
+  }
+  for (std::size_t index = first; index < deck.stages.size(); ++index) {
+    const auto& st = deck.stages[index];
+    ctx.stage_index = st.index;
+    ctx.stage_name = st.name;
+    log.info("stage " + std::to_string(st.index) + " '" + st.name + "' (" + st.kind + ")");
+    auto t0 = std::chrono::steady_clock::now();
+    // The runner of the stage's kind (stages/stages.h; the registry: io/stage_params.h).
+    StageReport r = std::visit([&](const auto& p) { return run_stage(ctx, p); }, st.params);
+    GRANPACK_CHECK(ctx.resume.empty() && !ctx.resume_mid_step,
+                   "stage " << st.index << " did not consume the checkpoint's resume state");
+    r.name = st.name;
+    r.kind = st.kind;
+    if (!r.phi && ctx.decomposition) r.phi = ctx.solid_fraction();
+    // set and write leave the packing as it was: its network metrics carry over.
+    if ((st.kind == "set" || st.kind == "write") && !report.stages.empty())
+      r.copy_state_metrics(report.stages.back());
+    r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    report.stages.push_back(r);
+    log.info("  done: phi " + fmt_opt(r.phi) + ", steps " + std::to_string(r.steps) +
+             ", wall " + fmt_opt(r.wall_seconds) + " s");
+    // Between stages: a checkpoint (cheap next to a stage), and the place where a stage
+    // without checkpoints inside honours a stop signal, as does an event-driven stage for a
+    // signal during its last piece.
+    if (index + 1 < deck.stages.size() && ctx.decomposition && checkpointer.policy().enabled()) {
+      const int bits = checkpointer.global_request(ctx.system.step);
+      checkpointer.write(ctx, false);
+      checkpointer.stop_if_requested(bits, ctx.system.step);
+    }
+  }
+  GRANPACK_CHECK(ctx.decomposition, "the deck never builds a sample (no lattice/random stage)");
+  write_state(ctx, out / "final.h5");
+  report.final_file = "final.h5";
+  log.info("wrote " + (out / "final.h5").string());
+}
+
+}  // namespace
+
+int run_deck(MPI_Comm world, const RunOptions& options) {
+  auto t0 = std::chrono::steady_clock::now();
+  int rank = 0, size = 1;
+  MPI_Comm_rank(world, &rank);
+  MPI_Comm_size(world, &size);
+
+  // 1. Validate everything before touching the output directory.
+  Deck deck = load_deck_collectively(world, options.deck, options.seed);
+  std::optional<RunState> state;
+  if (options.restart) {
+    const std::string file = options.restart->string();
+    const FileMeta meta = read_file_meta(world, *options.restart);
+    if (meta.kind != "checkpoint" || meta.run_state.empty())
+      throw InputError(file + " is a " + meta.kind +
+                       " file, not a checkpoint: --restart takes the DIR/checkpoint.h5 of an "
+                       "interrupted run (a configuration can start a deck with a read stage)");
+    if (meta.dimension != deck.sample.dimension)
+      throw InputError(file + " holds a " + std::to_string(meta.dimension) + "D run; the deck is " +
+                       std::to_string(deck.sample.dimension) + "D");
+    state = parse_run_state(meta.run_state, file);
+    const Deck original = parse_deck(meta.deck_text, file + ":/deck");
+    check_restart_deck(original, deck, *state, options.allow_deck_change, file);
+  }
+
+  std::filesystem::path out = options.output_dir;
+  if (out.empty()) out = std::filesystem::path("out") / options.deck.stem();
+  collectively(world, [&] {
+    if (rank == 0) {
+      std::error_code ec;
+      std::filesystem::create_directories(out, ec);
+      if (ec) throw InputError("cannot create the output directory " + out.string() + ": " + ec.message());
+    }
+  });
+
+  Log log(rank == 0, options.quiet || deck.output.quiet);
+  log.set_terminal_prefix(options.terminal_prefix);
+  collectively(world, [&] { log.open_file((out / "log.txt").string(), state.has_value()); });
+  log.info("granpack " GRANPACK_VERSION ": " + deck.file + " -> " + out.string() + " on " +
+           std::to_string(size) + " rank(s), dimension " + std::to_string(deck.sample.dimension) +
+           ", n = " + std::to_string(deck.sample.n));
+
+  CheckpointPolicy policy;
+  policy.file = out / "checkpoint.h5";
+  policy.every_steps = options.checkpoint_every_steps.value_or(deck.output.checkpoint_every_steps);
+  policy.every_seconds = options.checkpoint_every_seconds.value_or(deck.output.checkpoint_every_seconds);
+  Checkpointer checkpointer(world, policy);
+  install_stop_signal_handlers();
+
+  RunReport report;
+  report.version = GRANPACK_VERSION;
+  report.dimension = deck.sample.dimension;
+  report.n = deck.sample.n;
+  report.ranks = size;
+  report.deck = options.deck.string();
+  if (deck.sample.dimension == 3)
+    run_stages<3>(world, deck, log, out, report, checkpointer, options, state);
+  else
+    run_stages<2>(world, deck, log, out, report, checkpointer, options, state);
+
+  report.wall_seconds = checkpointer.earlier_wall_seconds +
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  collectively(world, [&] {
+    if (rank == 0) write_report(out / "report.json", report);
+  });
+  log.info("wrote " + (out / "report.json").string());
+  return kExitOk;
+}
+
+std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>& decks) {
+  int rank = 0;
+  MPI_Comm_rank(world, &rank);
+  std::ostringstream os;
+  for (const auto& path : decks) {
+    const Deck deck = load_deck_collectively(world, path, std::nullopt);
+    os << deck.file << ": ok, dimension " << deck.sample.dimension << ", n = " << deck.sample.n
+       << ", " << deck.stages.size() << " stages:";
+    for (const auto& st : deck.stages) {
+      os << ' ' << st.kind;
+      if (st.name != st.kind) os << " '" << st.name << "'";
+      // A read stage names a file the run needs at that stage: a missing one would stop the
+      // run there, after the earlier stages' work.
+      if (const auto* r = std::get_if<ReadStage>(&st.params)) {
+        int missing = 0;
+        if (rank == 0) missing = std::filesystem::exists(r->file) ? 0 : 1;
+        MPI_Bcast(&missing, 1, MPI_INT, 0, world);
+        if (missing)
+          throw InputError(deck.file + ": stage " + std::to_string(st.index) + " '" + st.name +
+                           "' (read): file '" + r->file +
+                           "' does not exist (relative paths are taken from the working directory)");
+      }
+    }
+    os << '\n';
+  }
+  return os.str();
+}
+
+}  // namespace granpack

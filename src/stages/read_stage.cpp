@@ -1,0 +1,39 @@
+// `read` stage: the sample is a configuration file written by granpack (any rank count):
+// grains, contacts with their history and the cell. The deck's material applies from here on
+// (the file's deck is not consulted), so a packing can be continued with new parameters
+// (e.g. [AR] procedure C from a stored A state).
+#include <sstream>
+
+#include "granpack/core/error.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/stages/stages.h"
+
+namespace granpack {
+
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const ReadStage& r) {
+  GRANPACK_CHECK(ctx.system.particles.size() == 0,
+                 "stage " << ctx.stage_index << " (read) needs an empty sample: it must come first");
+  const FileMeta meta = read_file_meta(ctx.world, r.file);
+  if (meta.dimension != dim)
+    throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) + "] (read) file = \"" +
+                     r.file + "\" holds a " + std::to_string(meta.dimension) + "D sample, the deck is " +
+                     std::to_string(dim) + "D");
+  adopt_configuration(ctx, read_configuration<dim>(ctx.world, r.file));
+  ctx.system.cell.rate.setZero();
+  std::int64_t n = static_cast<std::int64_t>(ctx.system.particles.n_owned());
+  MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_INT64_T, MPI_SUM, ctx.world);
+  if (n != ctx.deck->sample.n)
+    throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) + "] (read) file = \"" +
+                     r.file + "\" holds " + std::to_string(n) + " grains but [sample] n = " +
+                     std::to_string(ctx.deck->sample.n));
+  std::ostringstream os;
+  os << "  read " << r.file << ": " << n << " grains, " << meta.n_contacts << " contacts, stage '"
+     << meta.stage_name << "' of the run that wrote it";
+  ctx.log->info(os.str());
+  return StageReport{};
+}
+
+template StageReport run_stage<2>(RunContext<2>&, const ReadStage&);
+template StageReport run_stage<3>(RunContext<3>&, const ReadStage&);
+
+}  // namespace granpack
