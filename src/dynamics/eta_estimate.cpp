@@ -15,6 +15,7 @@ std::optional<double> EtaEstimate::update_steps(const EquilibriumMeasure& m, std
   const double r = worst_ratio(m);
   if (!(r > 0) || !std::isfinite(r)) return std::nullopt;
   const double lr = std::log(r);
+  if (!first_step_) first_step_ = step;
   if (prev_log_ratio_ && step > prev_step_) {
     const double rate = (lr - *prev_log_ratio_) / double(step - prev_step_);
     // Smoothing: the criteria fluctuate from one line to the next.
@@ -24,7 +25,10 @@ std::optional<double> EtaEstimate::update_steps(const EquilibriumMeasure& m, std
   prev_step_ = step;
   if (r <= 1) return 0.0;
   if (!rate_ || *rate_ >= 0) return std::nullopt;
-  return lr / -*rate_;
+  const double steps = lr / -*rate_;
+  const double history = double(std::max<std::int64_t>(step - *first_step_, 1));
+  if (steps > kMaxExtrapolation * history) return std::nullopt;
+  return steps;
 }
 
 std::string EtaEstimate::update(const EquilibriumMeasure& m, std::int64_t step,

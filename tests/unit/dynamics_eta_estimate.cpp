@@ -32,6 +32,27 @@ TEST(EtaEstimate, NoEstimateWhileGrowingAndZeroOnceMet) {
   EXPECT_EQ(eta.update_steps(measure_with_force(1e-5), 200).value_or(-1), 0.0);
 }
 
+TEST(EtaEstimate, NoFarExtrapolationFromAShortHistory) {
+  // A compression's |dP|/P ~ 1 drifting by 1e-6 per 1000 steps: the decay would "reach" the
+  // tolerance after ~1e10 steps, 1e7 times the history; no estimate rather than "ETA 2147 d".
+  EquilibriumTolerances tol;  // stress 1e-4
+  EtaEstimate eta(tol);
+  EquilibriumMeasure m;
+  m.stress = 1.0;
+  eta.update_steps(m, 0);
+  m.stress = 1.0 - 1e-6;
+  EXPECT_FALSE(eta.update_steps(m, 1000).has_value());
+  // The same decay observed for long enough is extrapolated again: ln(1e4)/1e-9 ~ 9.2e9
+  // steps is within 100 x a history of 1e8 steps.
+  EtaEstimate late(tol);
+  m.stress = 1.0;
+  late.update_steps(m, 0);
+  m.stress = std::exp(-1e-9 * 1e8);
+  const auto steps = late.update_steps(m, 100000000);
+  ASSERT_TRUE(steps.has_value());
+  EXPECT_NEAR(*steps, std::log(m.stress / 1e-4) / 1e-9, 1e-6 * *steps);
+}
+
 TEST(EtaEstimate, TextUsesTheMaxStepsBound) {
   EtaEstimate eta(EquilibriumTolerances{});
   // Not decreasing: only the bound, 1000 steps at 100 steps/s.
