@@ -196,17 +196,26 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   report.n = deck.sample.n;
   report.ranks = size;
   report.deck = options.deck.string();
-  if (deck.sample.dimension == 3)
-    run_stages<3>(world, deck, log, out, report, checkpointer, options, state);
-  else
-    run_stages<2>(world, deck, log, out, report, checkpointer, options, state);
+  try {
+    if (deck.sample.dimension == 3)
+      run_stages<3>(world, deck, log, out, report, checkpointer, options, state);
+    else
+      run_stages<2>(world, deck, log, out, report, checkpointer, options, state);
 
-  report.wall_seconds = checkpointer.earlier_wall_seconds +
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  collectively(world, [&] {
-    if (rank == 0) write_report(out / "report.json", report);
-  });
+    report.wall_seconds = checkpointer.earlier_wall_seconds +
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    collectively(world, [&] {
+      if (rank == 0) write_report(out / "report.json", report);
+    });
+  } catch (const CheckpointedStop& e) {
+    log.record("stopped (exit " + std::to_string(e.exit_code()) + "): " + e.what());
+    throw;
+  } catch (const Error& e) {
+    log.record("error (exit " + std::to_string(e.exit_code()) + "): " + e.what());
+    throw;
+  }
   log.info("wrote " + (out / "report.json").string());
+  log.record("finished (exit 0)");
   return kExitOk;
 }
 

@@ -43,6 +43,9 @@ wait $pid; code=$?
 check "SIGUSR1: exit $code (expected 75), 'stopped on request', a checkpoint" \
   '[ $code -eq 75 ] && grep -q "stopped on request" "$scratch/usr1.txt" && [ -f "$scratch/usr1/checkpoint.h5" ]' \
   || tail -5 "$scratch/usr1.txt"
+check "SIGUSR1: log.txt says why the run ended" \
+  'tail -n 1 "$scratch/usr1/log.txt" | grep -q "^stopped (exit 75): stopped on request"' \
+  || tail -2 "$scratch/usr1/log.txt"
 
 # 2. SIGTERM to every rank.
 mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$scratch/term" -q > "$scratch/term.txt" 2>&1 &

@@ -29,6 +29,7 @@ TOML
 check_exit "run" 0 "$scratch/run.txt" granpack_on 2 run "$scratch/lattice.toml" -o "$out"
 for f in report.json final.h5 final.xdmf lattice.h5 lattice.xdmf log.txt; do check "$f written" "[ -s '$out/$f' ]"; done
 check "no temporary files left" "[ -z \"\$(ls '$out' | grep -i tmp)\" ]"
+check "log.txt ends with why the run ended" "[ \"\$(tail -n 1 '$out/log.txt')\" = 'finished (exit 0)' ]"
 check_python "report.json has every key and phi = 0.60" "$scratch/py.txt" "$out/report.json" <<'PY'
 import json, math, sys
 r = json.load(open(sys.argv[1]))

@@ -25,6 +25,9 @@ public:
       emit(line, false);
   }
   void warn(const std::string& line) { emit("warning: " + line, true); }
+  /// To log.txt only: why a run ended (the terminal gets the same message from main), so
+  /// that the log of a batch job says whether it finished, was stopped or failed.
+  void record(const std::string& line) { emit_to_file(line); }
   bool quiet() const { return quiet_; }
   /// Put before every terminal line (not the file's): which sample of an ensemble speaks.
   void set_terminal_prefix(std::string prefix) { prefix_ = std::move(prefix); }
