@@ -9,6 +9,7 @@
 #include "granpack/io/deck.h"
 #include "granpack/io/deck_seed.h"
 #include "granpack/io/hdf5_store.h"
+#include "granpack/io/output_lock.h"
 #include "granpack/engine/checkpoint.h"
 #include "granpack/stages/stages.h"
 #include "granpack/engine/stop_signals.h"
@@ -176,12 +177,19 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
     }
   });
 
+  // One run per directory: refused here, before log.txt is opened (and truncated).
+  OutputLock lock;
+  collectively(world, [&] {
+    if (rank == 0) lock = OutputLock(out);
+  });
+
   Log log(rank == 0, options.quiet || deck.output.quiet);
   log.set_terminal_prefix(options.terminal_prefix);
   collectively(world, [&] { log.open_file((out / "log.txt").string(), state.has_value()); });
   log.info("granpack " GRANPACK_VERSION ": " + deck.file + " -> " + out.string() + " on " +
            std::to_string(size) + " rank(s), dimension " + std::to_string(deck.sample.dimension) +
            ", n = " + std::to_string(deck.sample.n));
+  if (!lock.warning().empty()) log.warn(lock.warning());
 
   CheckpointPolicy policy;
   policy.file = out / "checkpoint.h5";

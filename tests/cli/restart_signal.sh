@@ -37,7 +37,14 @@ wait_running() { wait_until 100 0.1 "grep -q 'stage 1 ' '$1/log.txt' 2>/dev/null
 # 1. SIGUSR1 to mpiexec.
 mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$scratch/usr1" -q > "$scratch/usr1.txt" 2>&1 &
 pid=$!
-wait_running "$scratch/usr1"; sleep 0.3
+wait_running "$scratch/usr1"
+# A second run into the same directory is refused (DIR/.lock) before it touches log.txt.
+check_exit "second run into a busy directory refused" 2 "$scratch/second.txt" \
+  granpack_on 1 run "$deck" -o "$scratch/usr1" -q
+check "  with a message naming the directory, the first run's log intact" \
+  'grep -q "another granpack run is writing into $scratch/usr1" "$scratch/second.txt" &&
+   head -n 1 "$scratch/usr1/log.txt" | grep -q "^granpack "' || tail -3 "$scratch/second.txt"
+sleep 0.3
 kill -USR1 $pid
 wait $pid; code=$?
 check "SIGUSR1: exit $code (expected 75), 'stopped on request', a checkpoint" \
