@@ -20,16 +20,9 @@
 #include "granpack/io/hdf5_store.h"
 #include "granpack/app/ensemble_run.h"
 #include "granpack/app/run_deck.h"
+#include "granpack/comm/communicator.h"
 
-namespace {
-
-int rank_of(MPI_Comm comm) {
-  int r = 0;
-  MPI_Comm_rank(comm, &r);
-  return r;
-}
-
-}  // namespace
+using granpack::rank_of;
 
 int main(int argc, char** argv) {
   // A file size limit (ulimit -f) must not kill a rank with SIGXFSZ, silently and alone: with

@@ -8,24 +8,13 @@
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/io/log.h"
 #include "granpack/engine/stop_signals.h"
 
 namespace granpack {
 
 namespace {
-
-int rank_in(MPI_Comm comm) {
-  int r = 0;
-  MPI_Comm_rank(comm, &r);
-  return r;
-}
-
-int size_of(MPI_Comm comm) {
-  int s = 1;
-  MPI_Comm_size(comm, &s);
-  return s;
-}
 
 /// Ranks per sample: the option, or an even share of the ranks among the samples.
 int choose_ranks_per_sample(int size, const EnsembleOptions& o) {
@@ -45,7 +34,7 @@ enum class SampleStart { fresh, resume, finished };
 /// What sample `dir` needs; decided on the group's rank 0 and broadcast.
 SampleStart sample_start(MPI_Comm group, const std::filesystem::path& dir, bool resume) {
   int what = static_cast<int>(SampleStart::fresh);
-  if (rank_in(group) == 0 && resume) {
+  if (rank_of(group) == 0 && resume) {
     if (std::filesystem::exists(dir / "report.json"))
       what = static_cast<int>(SampleStart::finished);
     else if (std::filesystem::exists(dir / "checkpoint.h5"))
@@ -91,17 +80,17 @@ int run_ensemble(MPI_Comm world, const EnsembleOptions& o) {
   std::filesystem::path out = o.run.output_dir;
   if (out.empty()) out = std::filesystem::path("out") / o.run.deck.stem();
   collectively(world, [&] {
-    if (rank_in(world) != 0) return;
+    if (rank_of(world) != 0) return;
     std::error_code ec;
     std::filesystem::create_directories(out, ec);
     if (ec) throw InputError("cannot create the output directory " + out.string() + ": " + ec.message());
   });
 
   const int groups = size / per_sample;
-  const int color = rank_in(world) / per_sample;
+  const int color = rank_of(world) / per_sample;
   MPI_Comm group;
-  MPI_Comm_split(world, color, rank_in(world), &group);
-  Log log(rank_in(world) == 0, false);
+  MPI_Comm_split(world, color, rank_of(world), &group);
+  Log log(rank_of(world) == 0, false);
   log.info("ensemble: " + std::to_string(o.samples) + " samples of " + o.run.deck.string() +
            " (seeds " + std::to_string(o.first_seed) + ".." +
            std::to_string(o.first_seed + static_cast<std::uint64_t>(o.samples) - 1) + ") in " +
@@ -120,7 +109,7 @@ int run_ensemble(MPI_Comm world, const EnsembleOptions& o) {
     run.output_dir = sample_directory(out, seed);
     run.seed = seed;
     run.terminal_prefix = "[sample " + std::to_string(seed) + "] ";
-    Log say(rank_in(group) == 0, false);
+    Log say(rank_of(group) == 0, false);
     say.set_terminal_prefix(run.terminal_prefix);
     const SampleStart start = sample_start(group, run.output_dir, o.resume);
     if (start == SampleStart::finished) {

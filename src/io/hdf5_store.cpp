@@ -1,4 +1,5 @@
 #include "granpack/io/hdf5_store.h"
+#include "granpack/comm/communicator.h"
 
 #include <hdf5.h>
 #include <sys/resource.h>
@@ -59,16 +60,6 @@ template <class F> void collectively_typed(MPI_Comm comm, F&& f) {
   }
 }
 
-int comm_rank(MPI_Comm comm) {
-  int r = 0;
-  MPI_Comm_rank(comm, &r);
-  return r;
-}
-int comm_size(MPI_Comm comm) {
-  int s = 1;
-  MPI_Comm_size(comm, &s);
-  return s;
-}
 
 /// The file being read or written: every failure names it, and the HDF5 detail is appended.
 /// Reading failures are bad input (InputError); writing failures are runtime errors.
@@ -614,7 +605,7 @@ void write_text_dataset(const FileContext& ctx, hid_t file, MPI_Comm comm, const
   auto dset = h5::dataset_handle(
       ctx.id(H5Dcreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
              "cannot create " + what));
-  if (comm_rank(comm) == 0) {
+  if (rank_of(comm) == 0) {
     std::string padded = text.empty() ? std::string(1, '\0') : text;
     ctx.rc(H5Dwrite(dset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()),
            "cannot write " + what);
@@ -793,7 +784,7 @@ void write_contents(MPI_Comm comm, const FileContext& ctx, hid_t file, hid_t dxp
   {
     Handle g;
     phase([&] { g = group_create(ctx, file, "cell"); });
-    const Slice whole{dim, 0, comm_rank(comm) == 0 ? dim : 0};
+    const Slice whole{dim, 0, rank_of(comm) == 0 ? dim : 0};
     std::vector<double> length(c.cell.length.data(), c.cell.length.data() + dim);
     std::vector<double> rate(c.cell.rate.data(), c.cell.rate.data() + dim);
     phase([&] { write_rows(ctx, g, "/cell", "length", length, whole, 0, "m", dxpl); });
@@ -888,7 +879,7 @@ std::string likely_write_cause(const std::filesystem::path& file) {
 std::string fail_write(MPI_Comm comm, const std::filesystem::path& path,
                        const std::filesystem::path& temp, const std::string& error) {
   std::string cause;
-  if (comm_rank(comm) == 0) {
+  if (rank_of(comm) == 0) {
     cause = likely_write_cause(temp);
     std::error_code ec;
     std::filesystem::remove(temp, ec);
@@ -921,7 +912,7 @@ template <int dim>
 void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
                          const Configuration<dim>& c) {
   h5::silence_errors();
-  const int rank = comm_rank(comm);
+  const int rank = rank_of(comm);
   const FileContext target{path, false};
   const FileContext temp{temp_path_for(path), false};
   collectively(comm, [&] { validate_for_write(c, target); });
@@ -974,7 +965,7 @@ Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path
   constexpr int rd = rot_dim<dim>, od = orient_dim<dim>;
   const FileContext ctx{path, true};
   auto file = open_for_reading(comm, ctx);
-  const int rank = comm_rank(comm), size = comm_size(comm);
+  const int rank = rank_of(comm), size = size_of(comm);
 
   Configuration<dim> c;
   Handle pg, cg;
