@@ -32,7 +32,8 @@ constexpr struct {
 } kPoints[] = {{"checkpoint_datasets", FaultPoint::kCheckpointDatasets},
                {"checkpoint_rename", FaultPoint::kCheckpointRename},
                {"collective", FaultPoint::kCollective},
-               {"step", FaultPoint::kStep}};
+               {"step", FaultPoint::kStep},
+               {"hold", FaultPoint::kHold}};
 
 /// A non-negative decimal integer, the whole of `s`; -1 otherwise.
 std::int64_t parse_count(const std::string& s) {
@@ -43,7 +44,7 @@ std::int64_t parse_count(const std::string& s) {
 [[noreturn]] void malformed(const std::string& value, const std::string& why) {
   throw InputError("GRANPACK_FAULT=" + value + ": " + why +
                    " (test-only hook: <point>[:<count>][@<rank>], point one of checkpoint_datasets, "
-                   "checkpoint_rename, collective, step; docs/long-jobs.md)");
+                   "checkpoint_rename, collective, step, hold; docs/long-jobs.md)");
 }
 
 }  // namespace
@@ -78,12 +79,21 @@ void arm_fault_injection(MPI_Comm world) {
   detail::g_fault_armed = true;
 }
 
-void detail::fault_reached(FaultPoint point, std::int64_t step) {
-  if (point != g_fault.point) return;
-  const bool fire = point == FaultPoint::kStep ? step == g_fault.count : ++g_fault.reached == g_fault.count;
-  if (!fire) return;
+bool detail::fault_reached(FaultPoint point, std::int64_t step) {
+  // kHold is reached at the same place as kStep; the caller names both.
+  const bool by_step = point == FaultPoint::kStep || point == FaultPoint::kHold;
+  if (point != g_fault.point) return false;
+  const bool fire = by_step ? step == g_fault.count : ++g_fault.reached == g_fault.count;
+  if (!fire) return false;
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (point == FaultPoint::kHold) {
+    // The line a test waits for before it sends its signal.
+    std::fprintf(stderr, "granpack: GRANPACK_FAULT=%s: rank %d holds at step %lld until a stop signal\n",
+                 g_fault.text.c_str(), rank, static_cast<long long>(step));
+    std::fflush(stderr);
+    return true;
+  }
   // One line that the test reads (the fault fired where it meant), then die as kill -9 would:
   // no destructor, no flush of HDF5 or MPI state.
   char line[256];

@@ -7,6 +7,7 @@
 
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/fault_injection.h"
+#include "granpack/engine/stop_signals.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
@@ -172,6 +173,7 @@ template <int dim> void MdEngine<dim>::finish_step() {
   sys.time += dt;
   ++sys.step;
   fault_point(FaultPoint::kStep, sys.step);
+  if (fault_point(FaultPoint::kHold, sys.step)) wait_for_stop_signal();
 }
 
 template <int dim> void MdEngine<dim>::check_sanity() {

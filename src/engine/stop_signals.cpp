@@ -1,7 +1,11 @@
 #include "granpack/engine/stop_signals.h"
 
+#include <chrono>
 #include <csignal>
+#include <cstdio>
+#include <cstdlib>
 #include <initializer_list>
+#include <thread>
 
 namespace granpack {
 
@@ -26,5 +30,18 @@ void install_stop_signal_handlers() {
 int stop_signal_received() { return g_signal; }
 
 void raise_stop_signal_for_test(int signo) { g_signal = signo; }
+
+void wait_for_stop_signal(double max_seconds) {
+  using clock = std::chrono::steady_clock;
+  const auto deadline = clock::now() + std::chrono::duration<double>(max_seconds);
+  while (g_signal == 0) {
+    if (clock::now() > deadline) {
+      std::fprintf(stderr, "granpack: GRANPACK_FAULT=hold: no stop signal within %g s; exit 70\n", max_seconds);
+      std::fflush(stderr);
+      std::_Exit(70);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
 
 }  // namespace granpack

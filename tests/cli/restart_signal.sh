@@ -2,7 +2,10 @@
 # Stop signals and restart checks:
 #  - SIGUSR1 to mpiexec (forwarded to the ranks, as a batch script does) and SIGTERM to the
 #    ranks themselves (as srun/Slurm do): each stops the run at the next step with exit code
-#    75 after writing a checkpoint;
+#    75 after writing a checkpoint. The ranks are held at a chosen step of the compression
+#    (GRANPACK_FAULT=hold:N, docs/long-jobs.md) until the signal comes, so the signal lands
+#    inside the stage on any machine and any load (a sleep before the signal did not: on a
+#    fast idle machine the run had finished);
 #  - the stopped 2-rank run continues on 1 rank and reaches the same equilibrium state
 #    statistically (the rank count changes the order of floating-point sums, so not bitwise):
 #    Phi within 0.01 and z* within 0.2 of the uninterrupted run, i.e. about 3 standard
@@ -16,9 +19,9 @@ set -u
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
 cli_scratch 'pkill -9 -f -- "$scratch/" 2>/dev/null'   # on exit, also kill -9 this test's ranks
 deck=$scratch/gas.toml
-# The CI gas deck as it is: its compress stage takes ~130000 steps (3.6 s on 2 ranks here), so
-# a signal sent 0.3 s after the stage starts lands well inside it. (A deck with 10x looser
-# tolerances, used before, finished in 1.2 s and let the signal arrive after the run on CI.)
+# The CI gas deck as it is (the random stage relaxes for ~1800 steps, compress takes ~130000):
+# held after step 3000, the run stops inside step 3001, whose checkpoint records step 3000.
+hold=3000
 cp "$GRANPACK_SOURCE_DIR/jobs/decks/ci/gas_small.toml" "$deck"
 cat >> "$deck" <<'TOML'
 
@@ -31,33 +34,34 @@ TOML
 check_exit "uninterrupted run" 0 "$scratch/whole.txt" granpack_on 2 run "$deck" -o "$scratch/whole" -q \
   || checks_stop "restart signal"
 
-# Waits for the compress stage to be under way (its first checkpoint-free progress).
-wait_running() { wait_until 100 0.1 "grep -q 'stage 1 ' '$1/log.txt' 2>/dev/null"; }
+# Waits until both ranks hold at step $hold (the line GRANPACK_FAULT=hold prints); 300 s at
+# most, a guard against a hang, not a timing.
+wait_holding() { wait_until 3000 0.1 "[ \$(grep -c 'holds at step $hold until a stop signal' '$1') -ge 2 ]"; }
 
 # 1. SIGUSR1 to mpiexec.
-mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$scratch/usr1" -q > "$scratch/usr1.txt" 2>&1 &
+GRANPACK_FAULT=hold:$hold mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$scratch/usr1" -q > "$scratch/usr1.txt" 2>&1 &
 pid=$!
-wait_running "$scratch/usr1"
+wait_holding "$scratch/usr1.txt"
 # A second run into the same directory is refused (DIR/.lock) before it touches log.txt.
 check_exit "second run into a busy directory refused" 2 "$scratch/second.txt" \
   granpack_on 1 run "$deck" -o "$scratch/usr1" -q
 check "  with a message naming the directory, the first run's log intact" \
   'grep -q "another granpack run is writing into $scratch/usr1" "$scratch/second.txt" &&
    head -n 1 "$scratch/usr1/log.txt" | grep -q "^granpack "' || tail -3 "$scratch/second.txt"
-sleep 0.3
 kill -USR1 $pid
 wait $pid; code=$?
-check "SIGUSR1: exit $code (expected 75), 'stopped on request', a checkpoint" \
-  '[ $code -eq 75 ] && grep -q "stopped on request" "$scratch/usr1.txt" && [ -f "$scratch/usr1/checkpoint.h5" ]' \
-  || tail -5 "$scratch/usr1.txt"
+check "SIGUSR1: exit $code (expected 75), 'stopped on request', a checkpoint at step $hold" \
+  '[ $code -eq 75 ] && grep -q "stopped on request" "$scratch/usr1.txt" && [ -f "$scratch/usr1/checkpoint.h5" ] &&
+   "$GRANPACK_EXE" info "$scratch/usr1/checkpoint.h5" | grep -q "(step $hold)"' \
+  || { tail -5 "$scratch/usr1.txt"; "$GRANPACK_EXE" info "$scratch/usr1/checkpoint.h5" 2>&1 | grep step; }
 check "SIGUSR1: log.txt says why the run ended" \
   'tail -n 1 "$scratch/usr1/log.txt" | grep -q "^stopped (exit 75): stopped on request"' \
   || tail -2 "$scratch/usr1/log.txt"
 
 # 2. SIGTERM to every rank.
-mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$scratch/term" -q > "$scratch/term.txt" 2>&1 &
+GRANPACK_FAULT=hold:$hold mpiexec -n 2 "$GRANPACK_EXE" run "$deck" -o "$scratch/term" -q > "$scratch/term.txt" 2>&1 &
 pid=$!
-wait_running "$scratch/term"; sleep 0.3
+wait_holding "$scratch/term.txt"
 # Only the ranks (mpiexec itself would end the job on SIGTERM, as it documents).
 for p in $(pgrep -f -- "-o $scratch/term "); do
   [ "$(cat /proc/$p/comm 2>/dev/null)" = granpack ] && kill -TERM $p

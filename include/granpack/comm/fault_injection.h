@@ -5,14 +5,19 @@
 //
 // makes a rank kill itself with SIGKILL (as `kill -9` or a node failure would) at a named
 // point of the code, so a test of checkpoint safety kills exactly where it means to, on any
-// machine load, instead of sleeping and hoping. Points:
+// machine load, instead of sleeping and hoping; or (point `hold`) makes it wait there for a
+// stop signal, so a test of stop signals stops exactly at the step it chose. Points:
 //   checkpoint_datasets  inside a checkpoint write: after the particle datasets, before the
 //                        contact datasets (the temporary file is half written);
 //   checkpoint_rename    after every rank has closed a complete temporary checkpoint file,
 //                        before rank 0 renames it over the previous one;
 //   collective           entering the all-reduce every MD step performs (the other ranks are
 //                        inside it, waiting for this one);
-//   step                 when the step counter (the run's, stored in checkpoints) reaches count.
+//   step                 when the step counter (the run's, stored in checkpoints) reaches count;
+//   hold                 the same place, but instead of dying the rank waits there (sleeping)
+//                        until SIGTERM, SIGUSR1 or SIGINT arrives, then carries on: the run
+//                        then stops at the next step, as after any stop signal. No signal
+//                        within 600 s: the rank exits with code 70 (a test forgot to send it).
 // count: the count-th time this process reaches the point (default 1); for `step`, the step
 // number. @rank: only that rank of MPI_COMM_WORLD (default: every rank that reaches the
 // point). The variable is read once, by arm_fault_injection() at start-up; unset, each point
@@ -23,7 +28,7 @@
 
 namespace granpack {
 
-enum class FaultPoint { kCheckpointDatasets, kCheckpointRename, kCollective, kStep };
+enum class FaultPoint { kCheckpointDatasets, kCheckpointRename, kCollective, kStep, kHold };
 
 /// Collective in effect (every rank reads the same environment): parses GRANPACK_FAULT, if
 /// set, and arms the point for this rank. Throws InputError (exit 2) on a malformed value.
@@ -31,14 +36,17 @@ void arm_fault_injection(MPI_Comm world);
 
 namespace detail {
 extern bool g_fault_armed;
-void fault_reached(FaultPoint point, std::int64_t step);
+bool fault_reached(FaultPoint point, std::int64_t step);
 }  // namespace detail
 
 /// Kills this process (SIGKILL) if GRANPACK_FAULT names this point and its count is reached.
-/// `step`: the step counter, for FaultPoint::kStep.
-inline void fault_point(FaultPoint point, std::int64_t step = 0) {
+/// `step`: the step counter, for FaultPoint::kStep and kHold. Returns true when the caller
+/// must hold here (FaultPoint::kHold fired; wait_for_stop_signal in engine/stop_signals.h),
+/// false otherwise.
+inline bool fault_point(FaultPoint point, std::int64_t step = 0) {
   if (detail::g_fault_armed) [[unlikely]]
-    detail::fault_reached(point, step);
+    return detail::fault_reached(point, step);
+  return false;
 }
 
 }  // namespace granpack

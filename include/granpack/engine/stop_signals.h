@@ -11,5 +11,9 @@ void install_stop_signal_handlers();
 int stop_signal_received();
 /// Test hook: behave as if `signo` had been received.
 void raise_stop_signal_for_test(int signo);
+/// Test hook (GRANPACK_FAULT=hold:N, comm/fault_injection.h): sleeps until a stop signal has
+/// been received. After `max_seconds` without one, exits the process with code 70 and a
+/// message: a test that holds a run and never signals it must not hang CI.
+void wait_for_stop_signal(double max_seconds = 600.0);
 
 }  // namespace granpack
