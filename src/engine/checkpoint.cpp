@@ -33,7 +33,7 @@ Checkpointer::Checkpointer(MPI_Comm world, CheckpointPolicy policy)
 }
 
 int Checkpointer::local_request(std::int64_t step_after) const {
-  int bits = clock_request();
+  int bits = clock_request() | deferred_;
   if (policy_.every_steps > 0 && step_after % policy_.every_steps == 0) bits |= kRequestCheckpoint;
   return bits;
 }
@@ -52,6 +52,17 @@ int Checkpointer::global_request(std::int64_t step_after) const {
   int bits = local_request(step_after);
   MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, world_);
   return bits;
+}
+
+bool Checkpointer::take_now(int bits) {
+  if (!(bits & kRequestCheckpoint)) return false;
+  if (bits & kRequestRebuild) return true;
+  if (++deferred_steps_ > kMaxDeferredSteps) {
+    forced_ = true;
+    return true;
+  }
+  deferred_ = bits & (kRequestCheckpoint | kRequestStop);
+  return false;
 }
 
 void Checkpointer::stop_if_requested(int bits, std::int64_t step) const {
@@ -91,6 +102,16 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
                 static_cast<long long>(ctx.system.step), mid_stage ? "inside the stage" : "after the stage",
                 std::chrono::duration<double>(last_ - t0).count());
   ctx.log->info(buf + std::string(": ") + policy_.file.string());
+  if (forced_) {
+    std::snprintf(buf, sizeof buf,
+                  "  (forced: no neighbour-list rebuild in %lld steps after the request; a continuation "
+                  "from it is not bit-identical to the run without it)",
+                  static_cast<long long>(kMaxDeferredSteps));
+    ctx.log->info(buf);
+  }
+  deferred_ = 0;
+  deferred_steps_ = 0;
+  forced_ = false;
 }
 
 RunState parse_run_state(const std::string& text, const std::string& file) {

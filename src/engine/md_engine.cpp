@@ -148,8 +148,8 @@ template <int dim> void MdEngine<dim>::step() {
     MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, ctx_.world);
   }
   // A checkpoint inside a stage needs the stage's state (its frame); stages without one
-  // checkpoint at their end (run_deck).
-  if ((bits & kRequestCheckpoint) && !ctx_.frames.empty()) {
+  // checkpoint at their end (run_deck). It waits for a step that rebuilds anyway (take_now).
+  if (!ctx_.frames.empty() && ctx_.checkpointer && ctx_.checkpointer->take_now(bits)) {
     rebuild();
     ctx_.checkpointer->write(ctx_, true);
     ctx_.checkpointer->stop_if_requested(bits, sys.step);

@@ -10,8 +10,7 @@
 #  3. final.h5 equals the uninterrupted one bit for bit (tests/support/same_state.py), and
 #     report.json has the same stage values: the frame holds the rattlers found at the stage
 #     start and the loop counters, the checkpoint the backbone contacts' stage-start state
-#     (docs/long-jobs.md). kill -9, not a stop signal: a signal checkpoint is taken at a step
-#     that depends on the clock, which changes the trajectory's bits.
+#     (docs/long-jobs.md). (Stop signals: tests/cli/restart_signal_exact.sh.)
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"

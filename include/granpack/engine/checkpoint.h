@@ -70,6 +70,16 @@ public:
   /// Throws CheckpointedStop (exit 75) on every rank if `bits` has kRequestStop.
   void stop_if_requested(int bits, std::int64_t step) const;
 
+  /// For the MD step, given its all-reduced `bits`: whether to write the checkpoint they ask
+  /// for (kRequestCheckpoint) now. A checkpoint needs a neighbour-list rebuild, which changes
+  /// the order of floating-point sums; taken at a step that rebuilds anyway
+  /// (kRequestRebuild), it changes nothing, and the continued run is the uninterrupted one
+  /// bit for bit, whatever the step and the reason (signal, schedule). So a request is
+  /// deferred to the next such step and remembered (local_request returns it, identically on
+  /// every rank) -- at most kMaxDeferredSteps steps, then forced (and logged so).
+  bool take_now(int bits);
+  static constexpr std::int64_t kMaxDeferredSteps = 1000;
+
   /// Completed stages' report entries (run_deck appends; restored on restart).
   std::vector<StageReport>* completed = nullptr;
   /// Wall seconds spent by the runs before this one (restored on restart).
@@ -83,6 +93,9 @@ private:
   std::chrono::steady_clock::time_point last_, start_;
   int rank_ = 0;
   int written_ = 0;
+  int deferred_ = 0;                  ///< request bits awaiting a list rebuild (take_now)
+  std::int64_t deferred_steps_ = 0;   ///< steps they have waited
+  bool forced_ = false;               ///< the next write was forced after kMaxDeferredSteps
 };
 
 /// What a checkpoint says of the run beyond the grains (parsed /run_state).

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# A checkpoint taken because of a stop signal, at any step, continues to the same bits as the
+# run that never stopped (issue 31; docs/long-jobs.md, "Bit-for-bit continuation").
+#  1. A short deck (random gas -> compress -> three pressure steps) runs uninterrupted, with no
+#     checkpoint inside a stage, on 1 and on 2 ranks.
+#  2. The same deck is stopped by SIGUSR1 three times, at steps drawn at random (the seed is
+#     printed, so a failure can be replayed with GRANPACK_TEST_SEED), and restarted after
+#     each stop. The ranks are held at the drawn step until the signal comes
+#     (GRANPACK_FAULT=hold:N), so the signal lands where the draw says, on any machine load.
+#  3. final.h5 of the chain equals the uninterrupted one bit for bit (tests/support/
+#     same_state.py) and report.json has the same stage values.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+. "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
+restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
+deck=$scratch/restart.toml
+sed -e 's/^log_every = .*/log_every = 500/' "$GRANPACK_SOURCE_DIR/jobs/decks/ci/gas_small.toml" > "$deck"
+sed -i 's/^inertia_max = 1.0e-2$/inertia_max = 1.0e-2\nmax_steps = 3000/' "$deck"
+cat >> "$deck" <<'TOML'
+
+[[stage]]
+name = "qs"
+kind = "pressure_steps"
+factor = 1.5
+count = 3
+inertia_max = 1.0e-2
+max_steps = 600
+TOML
+run_options=(--checkpoint-every-seconds 0)
+
+seed=${GRANPACK_TEST_SEED:-$(( $(date +%s) % 100000 ))}
+echo "random stop steps drawn with GRANPACK_TEST_SEED=$seed"
+final_step() { "$GRANPACK_EXE" info "$1" | sed -n 's/^time: .*(step \([0-9]*\))$/\1/p'; }
+
+# chain NP: the uninterrupted run, then the chain of stops at three drawn steps and restarts.
+chain() {
+  np=$1 whole=$scratch/whole$1 out=$scratch/chain$1
+  check_exit "$np rank(s): uninterrupted run" 0 "$whole.txt" run_deck "$whole" || return
+  # Each stop is drawn after the previous checkpoint and 50 steps before the end at the latest.
+  local from last s c k restart=()
+  from=$(sed -n 's/^  done: phi .*, steps \([0-9]*\),.*/\1/p' "$whole/log.txt" | head -n 1)
+  last=$(( $(final_step "$whole/final.h5") - 50 ))
+  echo "$np rank(s): $((last + 50)) steps; the random stage ends at step $from"
+  for k in 1 2 3; do
+    s=$(/usr/bin/python3 -c "import random; r = random.Random($seed * 10 + $np * 3 + $k)
+print(r.randrange($from + 1, $from + 1 + max(1, ($last - $from) // (4 - $k))))")
+    : > "$scratch/chain.txt"
+    GRANPACK_FAULT=hold:$s start_leg "${restart[@]}"
+    wait_until 3000 0.1 "[ \$(grep -c 'holds at step $s until a stop signal' '$scratch/chain.txt') -ge $np ]"
+    kill -USR1 $pid
+    wait $pid; code=$?; pid=
+    # The checkpoint waits for the next neighbour-list rebuild (docs/long-jobs.md), at most
+    # 1000 steps.
+    c=$(final_step "$out/checkpoint.h5")
+    check "$np rank(s): SIGUSR1 at step $s: exit $code (expected 75), checkpoint at step $c (expected $s to $((s + 1000)))" \
+      '[ $code -eq 75 ] && [ "$c" -ge "$s" ] && [ "$c" -le $((s + 1000)) ]' || { tail "$scratch/chain.txt"; return; }
+    restart=(--restart "$out/checkpoint.h5") from=$c
+  done
+  check_exit "$np rank(s): last restart" 0 "$scratch/last.txt" run_deck "$out" "${restart[@]}" || return
+  check "$np rank(s): the chain ends as the uninterrupted run (final.h5 bit for bit, report.json)" \
+    'same_run "$whole" "$out" "$np"'
+}
+over_ranks
+checks_done "restart signal exact"
