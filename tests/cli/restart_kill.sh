@@ -19,18 +19,7 @@ set -u
 . "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 deck=$scratch/restart.toml
-sed -e 's/^log_every = .*/log_every = 500/' "$GRANPACK_SOURCE_DIR/jobs/decks/ci/gas_small.toml" > "$deck"
-sed -i 's/^inertia_max = 1.0e-2$/inertia_max = 1.0e-2\nmax_steps = 3000/' "$deck"
-cat >> "$deck" <<'TOML'
-
-[[stage]]
-name = "qs"
-kind = "pressure_steps"
-factor = 1.5
-count = 3
-inertia_max = 1.0e-2
-max_steps = 600
-TOML
+short_deck "$deck"
 run_options=(--checkpoint-every-steps 150 --checkpoint-every-seconds 0)
 
 # faulty_leg NAME FAULT [ARGS...]: a leg into $out with GRANPACK_FAULT=FAULT, which must end

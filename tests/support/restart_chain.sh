@@ -12,6 +12,24 @@ restart_scratch() {
 }
 stop_run() { [ -n "$pid" ] && kill -9 $(pgrep -P "$pid") "$pid" 2>/dev/null; wait "$pid" 2>/dev/null; pid=; }
 
+# short_deck FILE: the CI gas deck cut short (compress stopped after 3000 steps) followed by
+# three pressure steps of at most 600 steps: about 6600 steps through three MD stages.
+short_deck() {
+  sed -e 's/^log_every = .*/log_every = 500/' \
+      -e 's/^inertia_max = 1.0e-2$/inertia_max = 1.0e-2\nmax_steps = 3000/' \
+      "$GRANPACK_SOURCE_DIR/jobs/decks/ci/gas_small.toml" > "$1"
+  cat >> "$1" <<'TOML'
+
+[[stage]]
+name = "qs"
+kind = "pressure_steps"
+factor = 1.5
+count = 3
+inertia_max = 1.0e-2
+max_steps = 600
+TOML
+}
+
 # run_deck OUT [ARGS...]: `granpack run "$deck" -o OUT -q "${run_options[@]}" ARGS` on $np ranks
 # (stdin from /dev/null). start_leg [ARGS...]: the same into $out in the background, its output
 # appended to $scratch/chain.txt; $pid is mpiexec's own (not a subshell's: the ranks are its
