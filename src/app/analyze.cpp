@@ -111,6 +111,12 @@ std::string table(const nlohmann::json& j) {
                                        std::to_string(d["holes"]["wrapping"].get<long long>()) + " wrapping), " +
                                        num(d["holes"]["R_w_over_a"]));
   }
+  if (j.contains("g_r_range_limited_by") && j["g_r_range_limited_by"] != "request") {
+    const bool ranks = j["g_r_range_limited_by"] == "sub-domain width";
+    row("g(r) range / a", num(j["g_r_range"]) + " (" + num(j["g_r_range_requested"]) + " requested; limited by " +
+                              j["g_r_range_limited_by"].get<std::string>() +
+                              (ranks ? ": run on fewer ranks for the full range)" : ")"));
+  }
   if (j.contains("order")) {
     for (const char* dc : {"1.35", "1.40"}) {
       const auto& o = j["order"][dc];

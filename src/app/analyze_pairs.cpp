@@ -60,6 +60,13 @@ template <int dim> nlohmann::json analyze_pairs(const PackingView<dim>& v, const
   std::vector<double> r_mid(r1.r_lo.size());
   for (std::size_t k = 0; k < r_mid.size(); ++k) r_mid[k] = 0.5 * (r1.r_lo[k] + r1.r_hi[k]);
   j["g_r_range"] = r_max;
+  j["g_r_range_requested"] = o.r_max;
+  // A shorter range than requested is said, with why: half the cell is a property of the
+  // packing; the sub-domain width (nearest-neighbour ghost exchange) one of the rank count.
+  const double half_cell = 0.5 * v.system.cell.length.minCoeff() / a;
+  j["g_r_range_limited_by"] = r_max >= o.r_max                ? "request"
+                              : r_max >= half_cell * (1 - 1e-6) ? "half the cell"
+                                                                : "sub-domain width";
   j["g_r"] = {{"r_over_a", r_mid}, {"g_I", r1.g}, {"g_III", nullptr}};
   j["z_h"] = {{"h_over_a", grid}, {"z_I", zh1}, {"z_III", nullptr}};
   j["z_h_fit_I"] = fit_json(grid, zh1);

@@ -135,8 +135,8 @@ TEST(EnsembleSummary, MeanSampleSdAndKOfEveryNumber) {
   EXPECT_EQ(a["/only_here"]["values"], nlohmann::json({nullptr, nullptr, 1.5}));
 }
 
-// `granpack run DECK --samples 2 --ranks-per-sample 3`: refused on every rank before any work
-// (exit code 2), naming the job's rank count; nothing written.
+// `granpack run DECK --samples 2 --ranks-per-sample <ranks + 1>`: refused on every rank before
+// any work (exit code 2), naming the job's rank count; nothing written.
 TEST(EnsembleRefusals, RanksPerSampleMustDivideTheRanks) {
   const int size = test::world_size();
   const auto dir = test::scratch_dir("ensemble_refusals_np" + std::to_string(size));
@@ -146,13 +146,13 @@ TEST(EnsembleRefusals, RanksPerSampleMustDivideTheRanks) {
   o.run.deck = dir / "never_read.toml";
   o.run.output_dir = dir / "bad2";
   o.samples = 2;
-  o.ranks_per_sample = 3;
+  o.ranks_per_sample = size + 1;  // divides no rank count
   try {
     run_ensemble(MPI_COMM_WORLD, o);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(e.exit_code(), kExitBadInput);
-    EXPECT_NE(std::string(e.what()).find("--ranks-per-sample 3: must divide the " + std::to_string(size) + " MPI ranks"),
+    EXPECT_NE(std::string(e.what()).find("--ranks-per-sample " + std::to_string(size + 1) + ": must divide the " + std::to_string(size) + " MPI ranks"),
               std::string::npos)
         << e.what();
   }
