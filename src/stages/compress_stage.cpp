@@ -76,10 +76,11 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
     ctx.log->info(buf);
     const ContactLawParams& mat = ctx.contact_law;
     if (mat.cohesion_force > 0) {
-      // [GRC] sec. II C: P* = P a^(dim-1) / F0 and kappa = a K_N / F0 (Hertz: (E a^2/F0)^(2/3)).
-      const double kappa_f0 = mat.normal == NormalLawKind::kLinear
-                                  ? a * mat.k_n / f0
-                                  : std::pow(mat.young_modulus * a * a / f0, 2.0 / 3.0);
+      // [GRC] sec. II C: P* = P a^(dim-1) / F0 and kappa = a K_N / F0 (Hertz: (E~ a^2/F0)^(2/3)).
+      const double kappa_f0 =
+          mat.normal == NormalLawKind::kLinear
+              ? a * mat.k_n / f0
+              : hertz_cohesive_stiffness_number(e_tilde_of(mat.young_modulus, mat.poisson_ratio), a, f0);
       std::snprintf(buf, sizeof buf,
                     "  cohesion: F0 = %.6g N, D0/a = %.3g, P* = %.6g, kappa = a K_N/F0 = %.6g, "
                     "V* = sqrt(F0 D0 / m) = %.4g m/s, T0 = sqrt(m a / F0) = %.4g s",

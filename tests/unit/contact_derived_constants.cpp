@@ -59,4 +59,10 @@ TEST(ContactDerivedConstants, HertzInversionsAndStiffnessNumber) {
   EXPECT_EQ(hertz_stiffness_at_force(e_tilde, r_eff, force), nr.stiffness);
   // kappa = (E~/P)^(2/3): a^2 P = N gives h/a ~ 1/kappa for equal spheres ([AR] eq. 21).
   EXPECT_NEAR(hertz_stiffness_number(1e9, 1e3), 1e4, 1e-8);
+  // With the dimension: 3D the same; 2D, P = 1e3 N/m on grains of a = 1 mm is the force
+  // P a = 1 N per grain, and E~ a = 1e6 N/m gives (E~ a / P)^(2/3) = 100, not (E~/P)^(2/3).
+  EXPECT_NEAR(hertz_stiffness_number(1e9, 1e-3, 3, 1e3), 1e4, 1e-8);
+  EXPECT_NEAR(hertz_stiffness_number(1e9, 1e-3, 2, 1e3), 100.0, 1e-10);
+  // [GRC]'s cohesive kappa: F0 = E~ a^2 / 1000 gives 1000^(2/3) = 100, in 2D and 3D alike.
+  EXPECT_NEAR(hertz_cohesive_stiffness_number(1e9, 1e-3, 1.0), 100.0, 1e-10);
 }

@@ -22,6 +22,19 @@ inline double hertz_stiffness_number(double e_tilde, double pressure) {
   return std::pow(e_tilde / pressure, 2.0 / 3.0);
 }
 
+/// κ of a Hertz packing of grains of diameter a under pressure P in `dim` dimensions:
+/// (Ẽ a² / (P a^(dim−1)))^{2/3}, i.e. (Ẽ/P)^{2/3} in 3D ([AR] eq. 21) and (Ẽ a/P)^{2/3} in 2D,
+/// where P is a force per length (grain_section below).
+inline double hertz_stiffness_number(double e_tilde, double a, int dim, double pressure) {
+  return hertz_stiffness_number(dim == 3 ? e_tilde : e_tilde * a, pressure);
+}
+
+/// [GRC]'s κ of a cohesive Hertz contact: (Ẽ a²/F0)^{2/3}, the same number with the cohesion F0
+/// as the force scale instead of P a^(dim−1) (sec. II C; the linear law's is a K_N/F0).
+inline double hertz_cohesive_stiffness_number(double e_tilde, double a, double f0) {
+  return std::pow(e_tilde * a * a / f0, 2.0 / 3.0);
+}
+
 /// R* = R_i R_j/(R_i + R_j) of two equal grains of diameter a: a/4 ([AR] eq. 1-2).
 inline double equal_grains_effective_radius(double a) { return 0.25 * a; }
 
