@@ -53,7 +53,7 @@ worker() {
 
 pids=()
 for w in $(seq 1 "$workers"); do worker "$w" & pids+=($!); done
-trap 'kill -TERM "${pids[@]}" 2>/dev/null; pkill -TERM -f "granpack run jobs/decks" || true' TERM INT
+trap 'kill -TERM "${pids[@]}" 2>/dev/null; pkill -TERM -f "$(basename "$exe") run jobs/decks" || true' TERM INT
 for p in "${pids[@]}"; do wait "$p" || true; done
 
 for s in "${states[@]}"; do
