@@ -856,7 +856,8 @@ void write_contents(MPI_Comm comm, const FileContext& ctx, hid_t file, hid_t dxp
 /// Why a write into `file` most likely failed: HDF5 and MPI-IO report "file write failed"
 /// without the errno (Open MPI prints it on stderr, apart from our message). Looked up while
 /// the temporary file still takes its space: the file system nearly full, or a file size
-/// limit (ulimit -f). "" if neither (a quota, say).
+/// limit (ulimit -f); neither: most likely a disk quota (EDQUOT, which statvfs does not see:
+/// quotas are per user or project), said so with how to check it.
 std::string likely_write_cause(const std::filesystem::path& file) {
   const auto dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
   struct statvfs v {};
@@ -870,7 +871,9 @@ std::string likely_write_cause(const std::filesystem::path& file) {
   if (::getrlimit(RLIMIT_FSIZE, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
     return "File too large (a file size limit, ulimit -f, of " +
            std::to_string(static_cast<unsigned long long>(r.rlim_cur)) + " bytes)";
-  return "";
+  return "not a full disk nor a file size limit: most likely a disk quota (Disk quota exceeded, "
+         "EDQUOT; check with `quota -s` or the cluster's quota tool), else an I/O error of the "
+         "file system";
 }
 
 /// Collective. The message of a failed write (exit code 74, docs/long-jobs.md): the file, the
