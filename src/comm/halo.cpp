@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <sstream>
 
 #include "granpack/comm/particle_packing.h"
 #include "granpack/core/error.h"
@@ -48,10 +49,16 @@ void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, cons
   MPI_Comm_rank(d.comm(), &me);
   for (int a = 0; a < dim; ++a) {
     const double box = d.hi()[a] - d.lo()[a];
-    GRANPACK_CHECK(width[a] <= box,
-                   "ghost layer (" << width[a] << " of the cell) wider than a sub-box ("
-                                   << box << ") along axis " << a
-                                   << ": use fewer ranks or a larger sample");
+    // The same on every rank (the grid and the width are global), so every rank throws
+    // together. Ghosts come from the nearest sub-domain only: a narrower one would lose pairs.
+    if (width[a] > box) {
+      std::ostringstream os;
+      os << d.dims()[a] << " ranks along axis " << a << " cut the cell into sub-domains of "
+         << box << " of its length, narrower than the interaction range of the grains (ghost "
+         << "layer: " << width[a] << " of the cell length): run on fewer ranks (at most "
+         << static_cast<int>(1.0 / width[a]) << " along this axis) or on a larger sample";
+      throw InputError(os.str());
+    }
     const std::size_t candidates = p.size();  // owned + ghosts of earlier axes
     for (int dir : {-1, +1}) {
       Swap sw;
