@@ -33,7 +33,9 @@ constexpr struct {
                {"checkpoint_rename", FaultPoint::kCheckpointRename},
                {"collective", FaultPoint::kCollective},
                {"step", FaultPoint::kStep},
-               {"hold", FaultPoint::kHold}};
+               {"hold", FaultPoint::kHold},
+               {"piece", FaultPoint::kPiece},
+               {"piece_hold", FaultPoint::kPieceHold}};
 
 /// A non-negative decimal integer, the whole of `s`; -1 otherwise.
 std::int64_t parse_count(const std::string& s) {
@@ -44,7 +46,7 @@ std::int64_t parse_count(const std::string& s) {
 [[noreturn]] void malformed(const std::string& value, const std::string& why) {
   throw InputError("GRANPACK_FAULT=" + value + ": " + why +
                    " (test-only hook: <point>[:<count>][@<rank>], point one of checkpoint_datasets, "
-                   "checkpoint_rename, collective, step, hold; docs/long-jobs.md)");
+                   "checkpoint_rename, collective, step, hold, piece, piece_hold; docs/long-jobs.md)");
 }
 
 }  // namespace
@@ -80,17 +82,20 @@ void arm_fault_injection(MPI_Comm world) {
 }
 
 bool detail::fault_reached(FaultPoint point, std::int64_t step) {
-  // kHold is reached at the same place as kStep; the caller names both.
-  const bool by_step = point == FaultPoint::kStep || point == FaultPoint::kHold;
+  // kHold is reached at the same place as kStep, kPieceHold as kPiece; the caller names both.
+  // These four compare the counter the caller passes, the others count their occurrences.
+  const bool hold = point == FaultPoint::kHold || point == FaultPoint::kPieceHold;
+  const bool by_step = hold || point == FaultPoint::kStep || point == FaultPoint::kPiece;
   if (point != g_fault.point) return false;
   const bool fire = by_step ? step == g_fault.count : ++g_fault.reached == g_fault.count;
   if (!fire) return false;
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (point == FaultPoint::kHold) {
+  if (hold) {
     // The line a test waits for before it sends its signal.
-    std::fprintf(stderr, "granpack: GRANPACK_FAULT=%s: rank %d holds at step %lld until a stop signal\n",
-                 g_fault.text.c_str(), rank, static_cast<long long>(step));
+    std::fprintf(stderr, "granpack: GRANPACK_FAULT=%s: rank %d holds at %s %lld until a stop signal\n",
+                 g_fault.text.c_str(), rank, point == FaultPoint::kHold ? "step" : "piece",
+                 static_cast<long long>(step));
     std::fflush(stderr);
     return true;
   }

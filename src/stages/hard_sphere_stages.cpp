@@ -29,12 +29,14 @@
 
 #include "granpack/analysis/translational_order.h"
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/fault_injection.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/migration.h"
 #include "granpack/core/error.h"
 #include "granpack/dynamics/hard_sphere_md.h"
 #include "granpack/io/base64.h"
 #include "granpack/engine/checkpoint.h"
+#include "granpack/engine/stop_signals.h"
 #include "granpack/stages/stages.h"
 
 namespace granpack {
@@ -121,11 +123,14 @@ template <int dim> void run_in_pieces(RunContext<dim>& ctx, const std::function<
   constexpr int kFinished = 1 << 8;
   int rank = 0;
   MPI_Comm_rank(ctx.world, &rank);
-  for (;;) {
+  for (std::int64_t pieces = 1;; ++pieces) {
     int bits = 0;
     collectively(ctx.world, [&] {
       if (rank == 0 && piece()) bits |= kFinished;
     });
+    // Test-only (GRANPACK_FAULT=piece:N / piece_hold:N): a kill or a stop at a chosen piece.
+    fault_point(FaultPoint::kPiece, pieces);
+    if (fault_point(FaultPoint::kPieceHold, pieces)) wait_for_stop_signal();
     if (ctx.checkpointer) bits |= ctx.checkpointer->clock_request();
     MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, ctx.world);
     // Once the engine is done, a pending stop is honoured after the stage (run_deck).

@@ -14,7 +14,8 @@
 #   than 5 %; the strain rate of the P* = 0.01 compression stayed below its cap (the inertia
 #   number the stage reports, I = eps_dot sqrt(m/P), is at most 0.05/T0 sqrt(m/P));
 # - the stiffen deck (40 increments over 100 000 steps, a checkpoint every 20 000) killed
-#   (kill -9) after its first checkpoint inside stiffen and restarted from it
+#   (SIGKILL injected by GRANPACK_FAULT=step:N) 1000 steps after its first checkpoint inside
+#   stiffen and restarted from it
 #   ends bit for bit as the uninterrupted run (the frame holds the ramp's increment and start
 #   stiffness, the checkpoint the stiffnesses in force);
 # - `granpack analyze` of P0.h5 reports the [GRC] coordination the file gives;
@@ -84,14 +85,11 @@ t0=$(now)
 check_exit "stiffen run" 0 "$scratch/whole.txt" run_deck "$whole"
 echo "stiffen deck: $(elapsed $t0) s"
 grep -E "increment 40|equilibrated" "$whole/log.txt"
-out=$scratch/chain
-start_leg
-wait_until 3000 0.02 '[ "$(inside 1)" -gt 0 ]'
-# The kill-and-restart chain, each step needing the one before.
-killed_inside=$(inside 1)
-check "a checkpoint inside stiffen" '[ "$killed_inside" -gt 0 ]' || tail "$scratch/chain.txt"
-if [ "$killed_inside" -gt 0 ]; then
-  stop_run
+out=$whole; first=$(checkpoint_steps 1 | head -n 1); out=$scratch/chain
+check "the uninterrupted run wrote a checkpoint inside stiffen (step ${first:-none})" '[ -n "$first" ]'
+# The kill-and-restart chain, each step needing the one before. The kill is injected 1000
+# steps after that checkpoint (GRANPACK_FAULT=step:N), so it lands there on any machine load.
+if [ -n "$first" ] && faulty_leg "killed at step $((first + 1000)), inside stiffen" "step:$((first + 1000))"; then
   echo "killed inside stiffen; checkpoint at stage $(checkpoint_stage)"
   check_exit "restart from the checkpoint inside stiffen" 0 "$scratch/restart.txt" run_deck "$out" --restart "$out/checkpoint.h5"
   resumed=$(grep -c "inside stage 1 'stiffen'" "$out/log.txt")

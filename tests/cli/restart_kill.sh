@@ -21,30 +21,7 @@ restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 deck=$scratch/restart.toml
 short_deck "$deck"
 run_options=(--checkpoint-every-steps 150 --checkpoint-every-seconds 0)
-
-# faulty_leg NAME FAULT [ARGS...]: a leg into $out with GRANPACK_FAULT=FAULT, which must end
-# killed by the fault: a non-zero exit that is not the hard timeout's (124), the fault's
-# message, and afterwards a readable checkpoint.h5 holding the step of the newest checkpoint
-# that log.txt reports written.
-faulty_leg() {
-  local name="$np rank(s), $1" fault=$2 log=$scratch/leg.txt; shift 2
-  GRANPACK_FAULT=$fault timeout 300 mpiexec -n "$np" "$GRANPACK_EXE" run "$deck" -o "$out" -q \
-    "${run_options[@]}" "$@" < /dev/null > "$log" 2>&1
-  local rc=$?
-  cat "$log" >> "$scratch/chain.txt"
-  check "$name: killed by the fault (exit $rc; 124 would be the timeout)" '[ $rc -ne 0 ] && [ $rc -ne 124 ]' \
-    || { tail -20 "$log"; return 1; }
-  check "$name: the fault fired where it was meant to" 'grep -q "GRANPACK_FAULT=$fault: rank [0-9]* killed itself" "$log"' \
-    || { tail -20 "$log"; return 1; }
-  check "$name: checkpoint.h5 is readable" '"$GRANPACK_EXE" info "$out/checkpoint.h5" > "$scratch/info.txt" 2>&1' \
-    || { cat "$scratch/info.txt"; return 1; }
-  local stored logged
-  stored=$(sed -n 's/^time: .*(step \([0-9]*\))$/\1/p' "$scratch/info.txt")
-  logged=$(sed -n 's/^  checkpoint [0-9]* at step \([0-9]*\) .*/\1/p' "$out/log.txt" | tail -1)
-  check "$name: checkpoint.h5 is the newest written (step $stored; log.txt: $logged)" \
-    '[ -n "$stored" ] && [ "$stored" = "$logged" ]' || return 1
-}
-final_step() { "$GRANPACK_EXE" info "$1" | sed -n 's/^time: .*(step \([0-9]*\))$/\1/p'; }
+# faulty_leg (tests/support/restart_chain.sh): a leg killed by GRANPACK_FAULT, then checked.
 
 # chain NP: the uninterrupted run and the interrupted chain on NP ranks, compared. A failed
 # step ends the chain (the next ones need its files); the other rank count still runs.

@@ -20,7 +20,6 @@ run_options=(--checkpoint-every-seconds 0)
 
 seed=${GRANPACK_TEST_SEED:-$(( $(date +%s) % 100000 ))}
 echo "random stop steps drawn with GRANPACK_TEST_SEED=$seed"
-final_step() { "$GRANPACK_EXE" info "$1" | sed -n 's/^time: .*(step \([0-9]*\))$/\1/p'; }
 
 # chain NP: the uninterrupted run, then the chain of stops at three drawn steps and restarts.
 chain() {

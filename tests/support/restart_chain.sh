@@ -54,6 +54,49 @@ inside() {
 }
 checkpoint_stage() { "$GRANPACK_EXE" info "$out/checkpoint.h5" | sed -n 's/^stage: *//p'; }
 
+# faulty_leg NAME FAULT [ARGS...]: a leg into $out with GRANPACK_FAULT=FAULT, which must end
+# killed by the fault: a non-zero exit that is not the hard timeout's (124), the fault's
+# message, and afterwards a readable checkpoint.h5 holding the step of the newest checkpoint
+# that log.txt reports written.
+faulty_leg() {
+  local name="$np rank(s), $1" fault=$2 log=$scratch/leg.txt; shift 2
+  GRANPACK_FAULT=$fault timeout 300 mpiexec -n "$np" "$GRANPACK_EXE" run "$deck" -o "$out" -q \
+    "${run_options[@]}" "$@" < /dev/null > "$log" 2>&1
+  local rc=$?
+  cat "$log" >> "$scratch/chain.txt"
+  check "$name: killed by the fault (exit $rc; 124 would be the timeout)" '[ $rc -ne 0 ] && [ $rc -ne 124 ]' \
+    || { tail -20 "$log"; return 1; }
+  check "$name: the fault fired where it was meant to" 'grep -q "GRANPACK_FAULT=$fault: rank [0-9]* killed itself" "$log"' \
+    || { tail -20 "$log"; return 1; }
+  check "$name: checkpoint.h5 is readable" '"$GRANPACK_EXE" info "$out/checkpoint.h5" > "$scratch/info.txt" 2>&1' \
+    || { cat "$scratch/info.txt"; return 1; }
+  local stored logged
+  stored=$(sed -n 's/^time: .*(step \([0-9]*\))$/\1/p' "$scratch/info.txt")
+  logged=$(sed -n 's/^  checkpoint [0-9]* at step \([0-9]*\) .*/\1/p' "$out/log.txt" | tail -1)
+  check "$name: checkpoint.h5 is the newest written (step $stored; log.txt: $logged)" \
+    '[ -n "$stored" ] && [ "$stored" = "$logged" ]' || return 1
+}
+# held_leg NAME FAULT [ARGS...]: a leg into $out with GRANPACK_FAULT=FAULT, a hold point
+# (hold:N, piece_hold:N): once every rank holds there, SIGUSR1 to mpiexec; the leg must end
+# with exit 75 (stopped with a checkpoint). The stop lands where FAULT says on any machine load.
+held_leg() {
+  local name="$np rank(s), $1" fault=$2; shift 2
+  : > "$scratch/chain.txt"
+  GRANPACK_FAULT=$fault start_leg "$@"
+  wait_until 3000 0.1 "[ \$(grep -c 'GRANPACK_FAULT=$fault: rank [0-9]* holds at' '$scratch/chain.txt') -ge $np ]"
+  kill -USR1 $pid 2>/dev/null
+  wait $pid; local code=$?; pid=
+  check "$name: stopped by SIGUSR1 while held (exit $code, expected 75)" '[ $code -eq 75 ]' \
+    || { tail -20 "$scratch/chain.txt"; return 1; }
+}
+# final_step FILE: the step a configuration or checkpoint file holds.
+final_step() { "$GRANPACK_EXE" info "$1" | sed -n 's/^time: .*(step \([0-9]*\))$/\1/p'; }
+# checkpoint_steps STAGE: the steps of the checkpoints written inside stage index STAGE, as
+# $out/log.txt records them.
+checkpoint_steps() {
+  awk -v want="$1" '/^stage /{ s = $2 } /inside the stage/ && s == want { print $5 }' "$out/log.txt"
+}
+
 # same_run WHOLE OUT NP: OUT/final.h5 equals WHOLE/final.h5 bit for bit and the report.json
 # files agree.
 same_run() {
