@@ -32,7 +32,9 @@ template <int dim> nlohmann::json analyze(MPI_Comm world, const AnalyzeOptions& 
   return j;
 }
 
-std::string table(const nlohmann::json& j) {
+// Takes a copy: its non-const operator[] reads a key an unusual file's analysis left out
+// as null ("-"), where the const one is undefined behaviour.
+std::string table(nlohmann::json j) {
   std::string out;
   char buf[160];
   auto row = [&](const char* name, const std::string& value) {
@@ -40,7 +42,7 @@ std::string table(const nlohmann::json& j) {
     out += buf;
   };
   auto num = [](const nlohmann::json& v) {
-    if (v.is_null()) return std::string("-");
+    if (!v.is_number()) return std::string("-");
     char b[32];
     std::snprintf(b, sizeof b, "%.6g", v.get<double>());
     return std::string(b);
@@ -69,7 +71,7 @@ std::string table(const nlohmann::json& j) {
   if (j.contains("delta_phi"))
     row("kappa, Delta Phi, Phi0 (28)", num(j["kappa"]) + ", " + num(j["delta_phi"]) + ", " + num(j["phi0"]));
   for (const char* t : {"I", "III"}) {
-    const auto& f = j[std::string("z_h_fit_") + t];
+    auto& f = j[std::string("z_h_fit_") + t];
     if (f.contains("z0"))
       row((std::string("z(h) fit (35), ") + t + ": z0 A beta").c_str(),
           num(f["z0"]) + ", " + num(f["A"]) + ", " + num(f["beta"]));
@@ -79,7 +81,7 @@ std::string table(const nlohmann::json& j) {
                                            num(j["motifs"]["tetrahedra_per_grain"]) + " (in a tetrahedron: " +
                                            num(j["motifs"]["fraction_in_tetrahedron"]) + ")");
   if (j.contains("interactions") && j["interactions"].contains("force_scale")) {
-    const auto& c = j["interactions"];
+    auto& c = j["interactions"];
     row("interactions: z, z+ z- z0", num(c["z"]) + ", " + num(c["z_plus"]) + " " + num(c["z_minus"]) +
                                           " " + num(c["z_zero"]) + " (distant " + num(c["distant"]) + ")");
     row("Rumpf <N> / eq. (17)", num(c["rumpf"]["mean_normal_force"]) + " / " +
@@ -88,7 +90,7 @@ std::string table(const nlohmann::json& j) {
     row(("F_perc / " + c["force_scale_is"].get<std::string>()).c_str(),
         num(c["F_perc_over_Fs"]) + " (all directions " + num(c["F_perc_all_directions_over_Fs"]) + ")");
     row("vanishing, |N| > F_s/10", num(c["fraction_vanishing"]) + ", " + num(c["fraction_above_tenth"]));
-    const auto& m = c["force_means"];
+    auto& m = c["force_means"];
     row("<|N|>/F_s: +, - (table VI)", num(m["repulsive"]["mean_abs_N_over_Fs"]) + ", " +
                                           num(m["attractive"]["mean_abs_N_over_Fs"]) + " (rms " +
                                           num(m["repulsive"]["rms_N_over_Fs"]) + ", " +
@@ -98,9 +100,9 @@ std::string table(const nlohmann::json& j) {
     row("x_k, all interactions", xk);
   }
   if (j.contains("density")) {
-    const auto& d = j["density"];
+    auto& d = j["density"];
     for (const char* fit : {"fit_eq28", "fit_eq27_real_space"}) {
-      const auto& f = d[fit];
+      auto& f = d[fit];
       row(fit == std::string("fit_eq28") ? "d_F, xi/a (eq. 28, I(k))" : "d_F, xi/a (eq. 27, C(r))",
           f["determined"].get<bool>()
               ? num(f["d_F"]) + " +- " + num(f["d_F_error"]) + ", " + num(f["xi_over_a"]) + " +- " +
@@ -119,7 +121,7 @@ std::string table(const nlohmann::json& j) {
   }
   if (j.contains("order")) {
     for (const char* dc : {"1.35", "1.40"}) {
-      const auto& o = j["order"][dc];
+      auto& o = j["order"][dc];
       row((std::string("order d_c=") + dc + "a: Z Z_cr Q6 Q6loc").c_str(),
           num(o["Z"]) + ", " + num(o["Z_cr"]) + ", " + num(o["Q6_global"]) + ", " + num(o["Q6_local_mean"]));
       row((std::string("  x_cr, <n_cr>")).c_str(), num(o["crystalline_fraction"]) + ", " + num(o["cluster_mass_average"]));

@@ -165,6 +165,18 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
     state = parse_run_state(meta.run_state, file);
     const Deck original = parse_deck(meta.deck_text, file + ":/deck");
     check_restart_deck(original, deck, *state, options.allow_deck_change, file);
+    // A checkpoint that contradicts its own deck was damaged or edited: refuse it before any
+    // grain is read, rather than run something else than the deck says.
+    const auto n_stages = static_cast<int>(original.stages.size());
+    if (state->stage_index > n_stages || (state->mid_stage && state->stage_index == n_stages))
+      throw InputError(file + ": /run_state stage_index " + std::to_string(state->stage_index) +
+                       (state->mid_stage ? " (inside the stage)" : "") +
+                       " is past the end of the deck the checkpoint was written with (" +
+                       std::to_string(n_stages) + " stages): a damaged checkpoint");
+    if (meta.n_particles != deck.sample.n)
+      throw InputError(file + ": holds " + std::to_string(meta.n_particles) +
+                       " grains, but its deck's [sample] n = " + std::to_string(deck.sample.n) +
+                       ": a damaged checkpoint");
   }
 
   std::filesystem::path out = options.output_dir;

@@ -144,6 +144,16 @@ RunState parse_run_state(const std::string& text, const std::string& file) {
     throw InputError(file + ": dataset /run_state is not a granpack run state (" + e.what() + ")");
   }
   if (s.stage_index < 0) throw InputError(file + ": /run_state has a negative stage_index");
+  // The grid is reused on the same rank count (MPI_Cart_create would abort on a wrong one).
+  long long cells = 1;
+  for (const int g : s.grid) cells *= g >= 1 && g <= 1 << 20 ? g : 0;
+  if (s.ranks < 1 || s.grid.empty() || cells != s.ranks) {
+    std::string grid;
+    for (const int g : s.grid) grid += (grid.empty() ? "" : " x ") + std::to_string(g);
+    throw InputError(file + ": /run_state's domain grid (" + (grid.empty() ? "empty" : grid) +
+                     ") does not fit its rank count " + std::to_string(s.ranks) +
+                     ": a damaged checkpoint");
+  }
   return s;
 }
 

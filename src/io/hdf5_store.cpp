@@ -17,6 +17,7 @@
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/fault_injection.h"
+#include "granpack/comm/id_consistency.h"
 #include "granpack/io/atomic_file.h"
 #include "granpack/io/hdf5_handle.h"
 #include "granpack/io/hdf5_string_guard.h"
@@ -1016,6 +1017,7 @@ Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path
 
   const Slice ps = even_slice(c.meta.n_particles, rank, size);
   const Slice cs = even_slice(c.meta.n_contacts, rank, size);
+  std::vector<std::int64_t> ids, firsts, seconds;  // for the global id checks below
   collectively_typed(comm, [&] {
     auto dxpl = collective_dxpl(ctx);
     auto what = [](const Entry& e) {
@@ -1039,6 +1041,32 @@ Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path
     entries.clear(); // close the datasets before the file
 
     const auto np = static_cast<std::size_t>(ps.count), nc = static_cast<std::size_t>(cs.count);
+    // Values the engine integrates or sums: a NaN or infinity in any of them would only
+    // surface later as a blow-up or as nan in an analysis, far from its cause.
+    auto all_finite = [&](const std::vector<double>& v, const char* name, const Slice& s, int cols) {
+      const std::size_t width = std::max(cols, 1);
+      for (std::size_t k = 0; k < v.size(); ++k)
+        if (!std::isfinite(v[k]))
+          ctx.fail(std::string(name) + " row " + std::to_string(s.offset + k / width) + " holds " +
+                   std::to_string(v[k]) + " (need finite values)");
+    };
+    all_finite(vel, "/particles/velocity", ps, dim);
+    all_finite(omega, "/particles/angular_velocity", ps, rd);
+    all_finite(orient, "/particles/orientation", ps, od);
+    all_finite(normal, "/contacts/normal_force", cs, 0);
+    all_finite(tangential, "/contacts/tangential_force", cs, dim);
+    all_finite(rolling, "/contacts/rolling", cs, rd);
+    for (std::size_t i = 0; i < np; ++i)
+      if (!(mass[i] > 0 && inertia[i] > 0) || !std::isfinite(mass[i]) || !std::isfinite(inertia[i]))
+        ctx.fail("/particles/mass or /particles/inertia row " + std::to_string(ps.offset + i) + " = " +
+                 std::to_string(mass[i]) + ", " + std::to_string(inertia[i]) +
+                 " (need positive finite values)");
+    for (std::size_t k = 0; k < nc; ++k)
+      if (normal[k] < 0)
+        ctx.fail("/contacts/normal_force row " + std::to_string(cs.offset + k) + " = " +
+                 std::to_string(normal[k]) + " (the elastic normal force N^e is never negative; "
+                 "docs/hdf5-schema.md)");
+    ids = id, firsts = first, seconds = second;
     c.particles.reserve(np);
     for (std::size_t i = 0; i < np; ++i) {
       Particle<dim> q;
@@ -1080,6 +1108,9 @@ Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path
     if (c.contacts.size() != nc)
       ctx.fail("/contacts holds duplicate keys");
   });
+  // Across the ranks' slices (every rank gets the same verdict, so all throw together).
+  if (const std::string bad = find_id_inconsistency(comm, ids, firsts, seconds); !bad.empty())
+    ctx.fail(bad);
   return c;
 }
 

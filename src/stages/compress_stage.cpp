@@ -121,6 +121,10 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
     last_quench = resume.at("last_quench").get<std::int64_t>();
     quenches = resume.at("quenches").get<std::int64_t>();
     s.cell.mass = exact_double(resume.at("cell_mass"));
+    // A zero or negative cell mass never reaches the target stress (the run would not end).
+    if (!(s.cell.mass > 0) || !std::isfinite(s.cell.mass))
+      throw InputError("the --restart checkpoint's compress frame holds cell_mass = " + std::to_string(s.cell.mass) +
+                       " kg (need a positive finite mass): a damaged checkpoint");
   }
   StageFrame<dim> frame(ctx, [&] {
     return nlohmann::json{{"stage", "compress"},

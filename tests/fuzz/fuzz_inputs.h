@@ -993,10 +993,23 @@ template <int dim> std::string check_returned(const Configuration<dim>& c) {
       if (!std::isfinite(p.position[i][a]))
         return "returned a non-finite scaled position";
   }
+  std::vector<std::int64_t> ids(p.id.begin(), p.id.begin() + static_cast<std::ptrdiff_t>(p.n_owned()));
+  std::sort(ids.begin(), ids.end());
+  if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())
+    return "returned a duplicate id";
+  for (std::size_t i = 0; i < p.n_owned(); ++i)
+    if (!(p.mass[i] > 0) || !std::isfinite(p.mass[i]) || !p.velocity[i].allFinite())
+      return "returned a non-positive mass or a non-finite velocity";
   for (std::size_t k = 0; k < c.contacts.size(); ++k) {
     const auto& key = c.contacts.key(k);
     if (key.first < 0 || key.first >= key.second)
       return "returned a contact key with first >= second or negative";
+    if (!std::binary_search(ids.begin(), ids.end(), key.first) ||
+        !std::binary_search(ids.begin(), ids.end(), key.second))
+      return "returned a contact naming a grain the file does not hold";
+    const double n = c.contacts.state(k).normal_force;
+    if (!(n >= 0) || !std::isfinite(n))
+      return "returned a negative or non-finite normal force";
   }
   return "";
 }

@@ -10,6 +10,7 @@
 #include <bit>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -385,6 +386,68 @@ TYPED_TEST(Hdf5Store, BadFilesThrowInputErrorOnEveryRank) {
     EXPECT_NE(std::string(e.what()).find("/particles/mass has shape [199]"), std::string::npos)
         << e.what();
   }
+}
+
+namespace {
+/// Reads dataset `name` of the file at `path` whole, changes it with `change` and writes it
+/// back (serial HDF5; rank 0 only).
+template <class T, class F> void poke(const fs::path& path, const char* name, hid_t type, F change) {
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  const hid_t space = H5Dget_space(d);
+  std::vector<T> v(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  EXPECT_GE(H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+  change(v);
+  EXPECT_GE(H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+}
+}  // namespace
+
+// Files that are well-formed HDF5 but contradict themselves: refused on every rank, with the
+// same message whichever ranks' slices hold the offending rows (the id checks compare rows
+// that different ranks read: the first and the last row).
+TYPED_TEST(Hdf5Store, InconsistentFilesAreRefusedOnEveryRank) {
+  constexpr int dim = TypeParam::value;
+  const auto dir = scratch("inconsistent" + std::to_string(dim));
+  const auto good = dir / "good.h5";
+  write_configuration(MPI_COMM_WORLD, good, my_part(random_sample<dim>(200, 300, 7), true));
+  struct Case {
+    const char* file;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"duplicate_id.h5", "appears 2 times in /particles/id (ids must be unique)"},
+      {"missing_grain.h5", "a contact names grain 1000000, which /particles/id does not hold"},
+      {"nan_velocity.h5", "/particles/velocity row 3 holds nan (need finite values)"},
+      {"negative_force.h5", "/contacts/normal_force row 5 = -1.000000 (the elastic normal force N^e is never negative"},
+      {"zero_mass.h5", "/particles/mass or /particles/inertia row 2 = 0.000000"},
+  };
+  if (world_rank() == 0) {
+    for (const auto& c : cases) fs::copy_file(good, dir / c.file, fs::copy_options::overwrite_existing);
+    poke<std::int64_t>(dir / "duplicate_id.h5", "/particles/id", H5T_NATIVE_INT64,
+                       [](auto& v) { v.back() = v.front(); });
+    poke<std::int64_t>(dir / "missing_grain.h5", "/contacts/second", H5T_NATIVE_INT64,
+                       [](auto& v) { v.back() = 1000000; });
+    poke<double>(dir / "nan_velocity.h5", "/particles/velocity", H5T_NATIVE_DOUBLE,
+                 [](auto& v) { v[3 * dim + 1] = std::numeric_limits<double>::quiet_NaN(); });
+    poke<double>(dir / "negative_force.h5", "/contacts/normal_force", H5T_NATIVE_DOUBLE,
+                 [](auto& v) { v[5] = -1.0; });
+    poke<double>(dir / "zero_mass.h5", "/particles/mass", H5T_NATIVE_DOUBLE, [](auto& v) { v[2] = 0.0; });
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  for (const auto& c : cases) {
+    const auto p = dir / c.file;
+    expect_input_error(p, [&] { read_configuration<dim>(MPI_COMM_WORLD, p); }, c.file);
+    try {
+      read_configuration<dim>(MPI_COMM_WORLD, p);
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos) << c.file << ": " << e.what();
+    }
+  }
+  // The unchanged file still reads.
+  EXPECT_NO_THROW(read_configuration<dim>(MPI_COMM_WORLD, good));
 }
 
 TYPED_TEST(Hdf5Store, FailedWriteLeavesThePreviousFileUntouched) {
