@@ -1,10 +1,14 @@
 #include "granpack/app/run_deck.h"
 
+#include <array>
 #include <chrono>
+#include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/deck_seed.h"
@@ -47,6 +51,29 @@ std::string fmt_opt(const std::optional<double>& v) {
   os.precision(6);
   os << *v;
   return os.str();
+}
+
+/// The stage's MD phase times over the ranks (collective); none when it ran no MD step.
+std::optional<PhaseSeconds> phase_seconds_over_ranks(MPI_Comm world, const StepTimers& t) {
+  int size = 1;
+  MPI_Comm_size(world, &size);
+  const auto sum = global_sum(world, std::array{t.forces, t.neighbor, t.comm, t.integrate, t.forces_cpu});
+  const auto max = global_max(world, std::array{t.forces, t.forces_cpu});
+  if (sum[0] + sum[1] + sum[2] + sum[3] <= 0) return std::nullopt;
+  PhaseSeconds p;
+  p.forces = sum[0] / size, p.neighbor = sum[1] / size, p.comm = sum[2] / size;
+  p.integrate = sum[3] / size, p.forces_cpu = sum[4] / size;
+  p.forces_slowest = max[0], p.forces_cpu_slowest = max[1];
+  return p;
+}
+
+std::string phase_line(const PhaseSeconds& p) {
+  char buf[300];
+  std::snprintf(buf, sizeof buf,
+                "  MD phases (s, mean over ranks): forces %.3g, neighbours %.3g, communication %.3g, "
+                "integration %.3g; force work of the slowest rank / mean %.3f",
+                p.forces, p.neighbor, p.comm, p.integrate, p.force_imbalance());
+  return buf;
 }
 
 /// Restores the state a checkpoint holds: grains, contacts, cell, time and step, the domain
@@ -112,8 +139,10 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
     ctx.stage_name = st.name;
     log.info("stage " + std::to_string(st.index) + " '" + st.name + "' (" + st.kind + ")");
     auto t0 = std::chrono::steady_clock::now();
+    ctx.stage_timers = {};
     // The runner of the stage's kind (stages/stages.h; the registry: io/stage_params.h).
     StageReport r = std::visit([&](const auto& p) { return run_stage(ctx, p); }, st.params);
+    r.phase_seconds = phase_seconds_over_ranks(world, ctx.stage_timers);
     GRANPACK_CHECK(ctx.resume.empty() && !ctx.resume_mid_step,
                    "stage " << st.index << " did not consume the checkpoint's resume state");
     r.name = st.name;
@@ -124,6 +153,7 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
       r.copy_state_metrics(report.stages.back());
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     report.stages.push_back(r);
+    if (r.phase_seconds) log.info(phase_line(*r.phase_seconds));
     log.info("  done: phi " + fmt_opt(r.phi) + ", steps " + std::to_string(r.steps) +
              ", wall " + fmt_opt(r.wall_seconds) + " s");
     // Between stages: a checkpoint (cheap next to a stage), and the place where a stage

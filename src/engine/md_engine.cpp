@@ -68,6 +68,7 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   ForceSums<dim> sums;
   {
     ScopedPhase t(timers_.forces);
+    ScopedCpuPhase cpu(timers_.forces_cpu);
     sums = loop_.compute(sys, list_, law_, settings_.dt);
   }
   {

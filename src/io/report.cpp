@@ -38,6 +38,15 @@ nlohmann::json stage_json(const StageReport& s) {
     for (const auto& l : s.levels) e["levels"].push_back(stage_json(l));
   }
   e["wall_seconds"] = s.wall_seconds;
+  if (const auto& t = s.phase_seconds)
+    e["phase_seconds"] = {{"forces", t->forces},
+                          {"neighbor", t->neighbor},
+                          {"comm", t->comm},
+                          {"integrate", t->integrate},
+                          {"forces_slowest_rank", t->forces_slowest},
+                          {"forces_cpu", t->forces_cpu},
+                          {"forces_cpu_slowest_rank", t->forces_cpu_slowest},
+                          {"force_imbalance", t->force_imbalance()}};
   return e;
 }
 template <class T> std::optional<T> opt_from(const nlohmann::json& e, const char* key) {
@@ -64,6 +73,18 @@ StageReport stage_from_json(const nlohmann::json& e) {
   if (e.contains("levels"))
     for (const auto& l : e["levels"]) s.levels.push_back(stage_from_json(l));
   s.wall_seconds = e.at("wall_seconds").get<double>();
+  if (e.contains("phase_seconds")) {
+    const auto& t = e["phase_seconds"];
+    PhaseSeconds p;
+    p.forces = t.at("forces").get<double>();
+    p.neighbor = t.at("neighbor").get<double>();
+    p.comm = t.at("comm").get<double>();
+    p.integrate = t.at("integrate").get<double>();
+    p.forces_slowest = t.at("forces_slowest_rank").get<double>();
+    p.forces_cpu = t.at("forces_cpu").get<double>();
+    p.forces_cpu_slowest = t.at("forces_cpu_slowest_rank").get<double>();
+    s.phase_seconds = p;
+  }
   return s;
 }
 }  // namespace

@@ -59,6 +59,10 @@ template <int dim> struct MdObservables {
 template <int dim> class MdEngine {
 public:
   MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law, const MdSettings<dim>& settings);
+  /// Adds the engine's phase times to the stage's (RunContext::stage_timers).
+  ~MdEngine() { ctx_.stage_timers += timers_; }
+  MdEngine(const MdEngine&) = delete;
+  MdEngine& operator=(const MdEngine&) = delete;
   /// Advances one time step.
   void step();
   const MdObservables<dim>& observables() const { return obs_; }

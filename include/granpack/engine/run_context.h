@@ -18,6 +18,7 @@
 #include "granpack/io/report.h"
 #include "granpack/io/state_parameters.h"
 #include "granpack/engine/checkpoint.h"
+#include "granpack/engine/step_timers.h"
 
 namespace granpack {
 
@@ -45,6 +46,10 @@ template <int dim> struct RunContext {
   /// front one. resume_mid_step: the first MD engine completes the interrupted time step.
   std::deque<nlohmann::json> resume;
   bool resume_mid_step = false;
+  /// This rank's time in the phases of the MD steps of the stage in progress: every MD
+  /// engine adds its timers when it ends; run_deck reduces them over the ranks at the stage
+  /// end (the report's phase_seconds) and resets them.
+  StepTimers stage_timers;
 
   /// Takes the resume frame of the stage starting now (empty json if not resuming).
   nlohmann::json take_resume_frame() {

@@ -11,6 +11,18 @@
 namespace granpack {
 
 /// One stage's entry. Empty optionals are written as null ("not applicable").
+/// Wall seconds of a stage's MD steps by phase (engine/step_timers.h), mean over the ranks,
+/// and the force phase of the slowest rank in wall and in CPU time: the load balance
+/// (docs/performance.md). Measured over the part of the stage this run executed (after a
+/// restart: since the restart).
+struct PhaseSeconds {
+  double forces = 0, neighbor = 0, comm = 0, integrate = 0;
+  double forces_slowest = 0;                 ///< max over ranks of the force phase's wall time
+  double forces_cpu = 0, forces_cpu_slowest = 0;  ///< CPU time: mean and max over ranks
+  /// The slowest rank's force work over the mean (1: balanced).
+  double force_imbalance() const { return forces_cpu > 0 ? forces_cpu_slowest / forces_cpu : 1.0; }
+};
+
 struct StageReport {
   std::string name, kind;
   std::int64_t steps = 0;        ///< time steps taken by the stage
@@ -24,6 +36,7 @@ struct StageReport {
   /// Sub-entries (one per pressure level of pressure_steps), same schema.
   std::vector<StageReport> levels;
   double wall_seconds = 0;
+  std::optional<PhaseSeconds> phase_seconds;  ///< stages with MD steps
 
   /// Copies the state of the packing (pressure, kappa, z, z*, x0, x2, Z(2)) from another entry.
   void copy_state_metrics(const StageReport& from) {
