@@ -18,6 +18,7 @@
 #include "granpack/comm/fault_injection.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
+#include "granpack/io/mpiio_hints.h"
 #include "granpack/app/ensemble_run.h"
 #include "granpack/app/run_deck.h"
 #include "granpack/comm/communicator.h"
@@ -145,6 +146,7 @@ int main(int argc, char** argv) {
       return code;
     }
     granpack::arm_fault_injection(MPI_COMM_WORLD);  // test-only, GRANPACK_FAULT (docs/long-jobs.md)
+    granpack::check_mpiio_hints();  // GRANPACK_MPIIO_HINTS: a typo stops the job now, not at a checkpoint
     if (*run_cmd) {
       const bool restarting = run_cmd->count("--restart") > 0;
       if (ckpt_steps >= 0) run.checkpoint_every_steps = ckpt_steps;

@@ -21,6 +21,7 @@
 #include "granpack/io/atomic_file.h"
 #include "granpack/io/hdf5_handle.h"
 #include "granpack/io/hdf5_string_guard.h"
+#include "granpack/io/mpiio_hints.h"
 #include "granpack/io/xdmf.h"
 
 #ifndef GRANPACK_VERSION
@@ -548,7 +549,11 @@ StateParameters read_parameters(const FileContext& ctx, hid_t file, int dim) {
 
 Handle mpio_fapl(const FileContext& ctx, MPI_Comm comm) {
   auto fapl = h5::plist_handle(ctx.id(H5Pcreate(H5P_FILE_ACCESS), "cannot create a fapl"));
-  ctx.rc(H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL), "cannot set the MPI-IO driver");
+  // The hints of GRANPACK_MPIIO_HINTS (io/mpiio_hints.h); HDF5 keeps its own copy.
+  MPI_Info info = mpiio_hints_info();
+  const herr_t rc = H5Pset_fapl_mpio(fapl, comm, info);
+  if (info != MPI_INFO_NULL) MPI_Info_free(&info);
+  ctx.rc(rc, "cannot set the MPI-IO driver");
   return fapl;
 }
 

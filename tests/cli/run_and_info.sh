@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # End to end: `granpack run` of the main deck on 2 ranks writes report.json (with every
 # required key), final.h5 + final.xdmf and log.txt; `granpack info` reads the file written by
-# 2 ranks on 1 rank; `granpack stiffness` on a packing without contacts refuses it (exit 2).
+# 2 ranks on 1 rank; `granpack stiffness` on a packing without contacts refuses it (exit 2);
+# MPI-IO hints (GRANPACK_MPIIO_HINTS) reach the writes without changing a bit of the file, and
+# a malformed hints string stops the run at start-up with exit 2 and nothing written.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
@@ -51,6 +53,13 @@ check "info names dimension and n: $(cat "$scratch/info.txt")" \
 
 check_refused "stiffness of a packing without contacts" 2 "no backbone" "$scratch/a.txt" \
   "$GRANPACK_EXE" stiffness "$out/final.h5"
+with_hints() { GRANPACK_MPIIO_HINTS="romio_cb_write=enable, cb_nodes=1;cb_buffer_size=1048576" "$@"; }
+check_exit "run with MPI-IO hints" 0 "$scratch/hints.txt" with_hints granpack_on 2 run "$scratch/lattice.toml" -o "$scratch/hints"
+check "the file written with hints is the same bit for bit" 'same_state "$out/final.h5" "$scratch/hints/final.h5"'
+bad_hints() { GRANPACK_MPIIO_HINTS="cb_nodes" "$@"; }
+check_refused "a malformed GRANPACK_MPIIO_HINTS" 2 "GRANPACK_MPIIO_HINTS=\"cb_nodes\": 'cb_nodes' is not key=value" \
+  "$scratch/bad_hints.txt" bad_hints granpack_on 2 run "$scratch/lattice.toml" -o "$scratch/bad_hints"
+check "nothing written with malformed hints" '[ ! -e "$scratch/bad_hints" ]'
 check_refused "info on a missing file" 2 "does_not_exist.h5" "$scratch/i.txt" \
   "$GRANPACK_EXE" info "$scratch/does_not_exist.h5"
 

@@ -9,7 +9,10 @@
 #  2. SIGTERM to the script and to the ranks (scancel or preemption): granpack checkpoints,
 #     exit 75, the script waits for it instead of dying and does not requeue.
 #  3. The script run again on the first directory continues from its checkpoint to the end:
-#     exit 0, "deck done".
+#     exit 0, "deck done"; srun got the default placement options.
+#  4. DRY_RUN=1 (no allocation needed): the layout of a 4-node ensemble as the script
+#     computes it, and the layouts it refuses with exit 2 (a sample straddling two nodes, a
+#     sample size that does not divide the ranks, uneven nodes), without running anything.
 # ctest: PROCESSORS 1
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
@@ -19,9 +22,11 @@ cli_scratch 'pkill -9 -f -- "$scratch/" 2>/dev/null'
 deck=$scratch/deck.toml
 short_deck "$deck"
 mkdir -p "$scratch/bin"
-cat > "$scratch/bin/srun" <<'SH'
+cat > "$scratch/bin/srun" <<SH
 #!/usr/bin/env bash
-exec mpiexec -n 1 "$@"
+# srun's own options (SRUN_OPTIONS) are recorded, then dropped.
+while [[ \$1 == --* ]]; do echo "\$1" >> "$scratch/srun_options.txt"; shift; done
+exec mpiexec -n 1 "\$@"
 SH
 cat > "$scratch/bin/scontrol" <<SH
 #!/usr/bin/env bash
@@ -66,4 +71,30 @@ wait $pid; code=$?
 check "requeued leg: exit $code (expected 0), continued from the checkpoint, deck done" \
   '[ $code -eq 0 ] && grep -q "continuing from $scratch/a/checkpoint.h5" "$scratch/a2.txt" &&
    grep -q "deck done" "$scratch/a2.txt" && [ -f "$scratch/a/final.h5" ]' || cat "$scratch/a2.txt"
+check "srun placed the ranks in blocks, one core each (SRUN_OPTIONS default)" \
+  'grep -qx -- "--distribution=block:block" "$scratch/srun_options.txt" && grep -qx -- "--cpu-bind=cores" "$scratch/srun_options.txt"' \
+  || cat "$scratch/srun_options.txt"
+
+# 4. Dry runs: NODES TASKS SAMPLES RANKS_PER_SAMPLE; the script's output to $scratch/dry.txt.
+dry() {
+  SLURM_JOB_NUM_NODES=$1 SLURM_NTASKS=$2 SAMPLES=$3 RANKS_PER_SAMPLE=$4 DRY_RUN=1 OUT=$scratch/dry \
+    bash "$sbatch_script" < /dev/null > "$scratch/dry.txt" 2>&1
+}
+dry 4 128 16 8; code=$?
+check "dry run, 4 nodes x 32: 16 samples of 8 ranks, 4 per node, nothing run (exit $code)" \
+  '[ $code -eq 0 ] && grep -q "4 node(s) x 32 rank(s) = 128 rank(s): 16 sample(s) of 8 rank(s), 16 at a time in 1 wave(s), 4 per node" "$scratch/dry.txt" &&
+   grep -q "dry run: srun --distribution=block:block --cpu-bind=cores .* --samples 16 --first-seed 1 --restart --ranks-per-sample 8" "$scratch/dry.txt" &&
+   [ ! -e "$scratch/dry" ]' || cat "$scratch/dry.txt"
+dry 2 64 40 2; code=$?
+check "dry run, 40 samples of 2 ranks on 64: 32 at a time in 2 waves (exit $code)" \
+  '[ $code -eq 0 ] && grep -q "40 sample(s) of 2 rank(s), 32 at a time in 2 wave(s), 16 per node" "$scratch/dry.txt"' || cat "$scratch/dry.txt"
+dry 3 96 8 12; code=$?
+check "dry run refused: a sample of 12 ranks straddles nodes of 32 (exit $code)" \
+  '[ $code -eq 2 ] && grep -q "a sample of 12 ranks would straddle two nodes (32 ranks per node)" "$scratch/dry.txt"' || cat "$scratch/dry.txt"
+dry 4 128 16 24; code=$?
+check "dry run refused: 24 ranks per sample do not divide 128 (exit $code)" \
+  '[ $code -eq 2 ] && grep -q "RANKS_PER_SAMPLE = 24 does not divide the 128 ranks" "$scratch/dry.txt"' || cat "$scratch/dry.txt"
+dry 3 100 4 1; code=$?
+check "dry run refused: 100 ranks on 3 nodes (exit $code)" \
+  '[ $code -eq 2 ] && grep -q "100 ranks on 3 nodes is not the same count on every node" "$scratch/dry.txt"' || cat "$scratch/dry.txt"
 checks_done "slurm script"
