@@ -88,13 +88,15 @@ check "dry run, 4 nodes x 32: 16 samples of 8 ranks, 4 per node, nothing run (ex
 dry 2 64 40 2; code=$?
 check "dry run, 40 samples of 2 ranks on 64: 32 at a time in 2 waves (exit $code)" \
   '[ $code -eq 0 ] && grep -q "40 sample(s) of 2 rank(s), 32 at a time in 2 wave(s), 16 per node" "$scratch/dry.txt"' || cat "$scratch/dry.txt"
-dry 3 96 8 12; code=$?
-check "dry run refused: a sample of 12 ranks straddles nodes of 32 (exit $code)" \
-  '[ $code -eq 2 ] && grep -q "a sample of 12 ranks would straddle two nodes (32 ranks per node)" "$scratch/dry.txt"' || cat "$scratch/dry.txt"
-dry 4 128 16 24; code=$?
-check "dry run refused: 24 ranks per sample do not divide 128 (exit $code)" \
-  '[ $code -eq 2 ] && grep -q "RANKS_PER_SAMPLE = 24 does not divide the 128 ranks" "$scratch/dry.txt"' || cat "$scratch/dry.txt"
-dry 3 100 4 1; code=$?
-check "dry run refused: 100 ranks on 3 nodes (exit $code)" \
-  '[ $code -eq 2 ] && grep -q "100 ranks on 3 nodes is not the same count on every node" "$scratch/dry.txt"' || cat "$scratch/dry.txt"
+# dry_refused NAME NODES TASKS SAMPLES RANKS_PER_SAMPLE MESSAGE: a layout refused with exit 2.
+dry_refused() {
+  local name=$1 message=$6; shift
+  dry "$@"; code=$?
+  check "dry run refused: $name (exit $code)" '[ $code -eq 2 ] && grep -q "$message" "$scratch/dry.txt"' \
+    || cat "$scratch/dry.txt"
+}
+dry_refused "a sample of 12 ranks straddles nodes of 32" 3 96 8 12 \
+  "a sample of 12 ranks would straddle two nodes (32 ranks per node)"
+dry_refused "24 ranks per sample do not divide 128" 4 128 16 24 "RANKS_PER_SAMPLE = 24 does not divide the 128 ranks"
+dry_refused "100 ranks on 3 nodes" 3 100 4 1 "100 ranks on 3 nodes is not the same count on every node"
 checks_done "slurm script"
