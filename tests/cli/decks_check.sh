@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Every deck under jobs/decks passes `granpack check` (the validation `run` does before any
-# work), so a renamed or retired key cannot leave a deck that only fails when a long job
-# starts. A deck whose `read` stage names a missing file, and a deck with an unknown key, are
+# Every deck under jobs/decks and jobs/bench passes `granpack check` (the validation `run`
+# does before any work), so a renamed or retired key cannot leave a deck that only fails
+# when a long job starts. A deck whose `read` stage names a missing file, and a deck with an unknown key, are
 # refused with exit 2, a message naming the file, and nothing written.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
@@ -16,7 +16,7 @@ mkdir "$scratch/work" && cd "$scratch/work"
 # from an ensemble's packings, `file = "out/ens/C/sample_{seed}/A.h5"`) are checked from the
 # directory $scratch/stand_in, where that output is stood in for by an empty file of the same
 # path (one call for them all too).
-mapfile -t decks < <(cd "$GRANPACK_SOURCE_DIR" && find jobs/decks -name '*.toml' | sort)
+mapfile -t decks < <(cd "$GRANPACK_SOURCE_DIR" && find jobs/decks jobs/bench -name '*.toml' | sort)
 mapfile -t reads_out < <(cd "$GRANPACK_SOURCE_DIR" && grep -l '^file = "out/' "${decks[@]}")
 own=()
 for d in "${decks[@]}"; do [[ " ${reads_out[*]} " == *" $d "* ]] || own+=("$d"); done
