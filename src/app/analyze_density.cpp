@@ -7,6 +7,7 @@
 
 #include "granpack/analysis/density_correlation.h"
 #include "granpack/app/analysis_sections.h"
+#include "granpack/comm/broadcast.h"
 #include "granpack/comm/gather.h"
 
 namespace granpack {
@@ -85,10 +86,7 @@ nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o)
                   {"radii_over_a", radii_a}, {"nodes", h.nodes}};
     text = j.dump();
   }
-  int size = int(text.size());
-  MPI_Bcast(&size, 1, MPI_INT, 0, v.world);
-  text.resize(std::size_t(size));
-  MPI_Bcast(text.data(), size, MPI_CHAR, 0, v.world);
+  broadcast_string(v.world, text);
   return nlohmann::json::parse(text);
 }
 

@@ -6,6 +6,7 @@
 
 #include "granpack/analysis/force_sign_classes.h"
 #include "granpack/app/analysis_sections.h"
+#include "granpack/comm/reduce.h"
 
 namespace granpack {
 
@@ -20,7 +21,7 @@ template <int dim> nlohmann::json fractions(const PackingView<dim>& v, std::vect
   std::vector<double> h(16, 0.0);
   for (std::size_t i = 0; i < v.particles().n_owned(); ++i)
     h[std::min<std::size_t>(h.size() - 1, std::size_t(std::lround(counts[i])))] += 1;
-  MPI_Allreduce(MPI_IN_PLACE, h.data(), int(h.size()), MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, h);
   nlohmann::json x = nlohmann::json::object();
   for (std::size_t k = 0; k < h.size(); ++k)
     if (h[k] > 0) x[std::to_string(k)] = h[k] / double(v.n);
@@ -32,7 +33,7 @@ template <int dim> nlohmann::json fractions(const PackingView<dim>& v, std::vect
 template <int dim>
 nlohmann::json interaction_classes(const PackingView<dim>& v, ForceSignSums sums, std::vector<double> all,
                                    std::vector<double> stressed, double force_scale) {
-  MPI_Allreduce(MPI_IN_PLACE, sums.sums.data(), int(sums.sums.size()), MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, sums.sums);
   const double total = sums.sums[0] + sums.sums[ForceSignSums::fields] + sums.sums[2 * ForceSignSums::fields];
   nlohmann::json means;
   for (auto [name, c] : {std::pair{"repulsive", ForceSign::repulsive}, std::pair{"attractive", ForceSign::attractive},

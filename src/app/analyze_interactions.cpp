@@ -10,6 +10,7 @@
 
 #include "granpack/analysis/interaction_forces.h"
 #include "granpack/app/analysis_sections.h"
+#include "granpack/comm/broadcast.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/derived_constants.h"
@@ -19,9 +20,9 @@ namespace granpack {
 namespace {
 
 void reduce(Histogram& h, MPI_Comm world) {
-  MPI_Allreduce(MPI_IN_PLACE, h.counts.data(), int(h.counts.size()), MPI_DOUBLE, MPI_SUM, world);
+  global_sum_in_place(world, h.counts);
   double tails[2] = {h.below, h.above};
-  MPI_Allreduce(MPI_IN_PLACE, tails, 2, MPI_DOUBLE, MPI_SUM, world);
+  global_sum_in_place(world, tails);
   h.below = tails[0];
   h.above = tails[1];
 }
@@ -57,7 +58,7 @@ template <int dim> PercolationResult percolation(const PackingView<dim>& v, cons
     out[1] = r.threshold_all;
     out[2] = double(r.edges_at_any);
   }
-  MPI_Bcast(out, 3, MPI_DOUBLE, 0, v.world);
+  broadcast_in_place(v.world, out);
   return {out[0], out[1], std::int64_t(out[2])};
 }
 
@@ -87,8 +88,8 @@ template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v
     grain_sums[0] += d;
     grain_sums[1] += std::pow(d, dim);
   }
-  MPI_Allreduce(MPI_IN_PLACE, sums, 8, MPI_DOUBLE, MPI_SUM, v.world);
-  MPI_Allreduce(MPI_IN_PLACE, grain_sums, 2, MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, sums);
+  global_sum_in_place(v.world, grain_sums);
   const double interactions = sums[0] + sums[1];
   nlohmann::json j;
   j["cohesion_force"] = f0;
@@ -139,7 +140,7 @@ template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v
   }
   reduce(normal, v.world);
   reduce(angle, v.world);
-  MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, counts);
   j["normal_force_pdf"] = histogram_json(normal);  // N / F_s
   j["force_angle_pdf"] = histogram_json(angle);    // degrees, interactions with |F| >= tolerance
   j["fraction_vanishing"] = counts[0] / interactions;

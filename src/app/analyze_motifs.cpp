@@ -50,7 +50,7 @@ template <int dim> nlohmann::json analyze_motifs(const PackingView<dim>& v) {
                             << v.backbone.metrics.backbone_contacts
                             << " in the file: the file's forces do not match its geometry");
   NetworkMotifs m = count_network_motifs(g);
-  MPI_Allreduce(MPI_IN_PLACE, m.sums.sums().data(), int(m.sums.sums().size()), MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, m.sums.sums());
   const MotifStatistics s = finish_network_motifs(m.sums);
   return {{"triangles", s.triangles},
           {"tetrahedra", s.tetrahedra},

@@ -13,7 +13,7 @@ namespace granpack {
 namespace {
 
 nlohmann::json fractions(std::vector<double> hist, double n, MPI_Comm world) {
-  MPI_Allreduce(MPI_IN_PLACE, hist.data(), int(hist.size()), MPI_DOUBLE, MPI_SUM, world);
+  global_sum_in_place(world, hist);
   nlohmann::json xi = nlohmann::json::object();
   for (std::size_t k = 0; k < hist.size(); ++k)
     if (hist[k] > 0) xi[std::to_string(k)] = n > 0 ? hist[k] / n : 0.0;
@@ -85,14 +85,14 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   }
   ForceMomentSums pass1({5.0 / 3.0, 2.0, 3.0});
   pass1.add(samples);
-  MPI_Allreduce(MPI_IN_PLACE, pass1.sums().data(), int(pass1.sums().size()), MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, pass1.sums());
   if (pass1.contacts() == 0) {
     j["mean_normal_force"] = j["Z_5_3"] = j["Z_2"] = nullptr;
     return j;
   }
   ForceSplitSums pass2(pass1.mean_normal_force());
   pass2.add(samples);
-  MPI_Allreduce(MPI_IN_PLACE, pass2.sums().data(), int(pass2.sums().size()), MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, pass2.sums());
   const auto& mat = v.contact_law;
   const double e_tilde = mat.normal == NormalLawKind::kHertz && v.deck.sample.distribution == "monodisperse"
                              ? e_tilde_of(mat.young_modulus, mat.poisson_ratio)

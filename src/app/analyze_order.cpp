@@ -8,7 +8,9 @@
 
 #include "granpack/analysis/bond_order.h"
 #include "granpack/app/analysis_sections.h"
+#include "granpack/comm/broadcast.h"
 #include "granpack/comm/gather.h"
+#include "granpack/comm/reduce.h"
 
 namespace granpack {
 
@@ -73,9 +75,9 @@ OrderAtCutoff order_at(const PackingView<3>& v, double dc_over_a) {
         out.window_counts[3 * s + w] += 1;
   }
   std::vector<double> packed = tally.packed();
-  MPI_Allreduce(MPI_IN_PLACE, packed.data(), int(packed.size()), MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, packed);
   tally = BondOrderTally::unpacked(packed);
-  MPI_Allreduce(MPI_IN_PLACE, out.window_counts.data(), 9, MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, out.window_counts);
 
   // Clusters on rank 0.
   int rank = 0;
@@ -94,7 +96,7 @@ OrderAtCutoff order_at(const PackingView<3>& v, double dc_over_a) {
     }
     mass_average = crystalline_clusters(grains, bonds).mass_average_size;
   }
-  MPI_Bcast(&mass_average, 1, MPI_DOUBLE, 0, v.world);
+  mass_average = broadcast_value(v.world, mass_average);
   out.table2 = {{"Z", tally.z()},           {"Z_cr", tally.z_cr()},
                 {"Q6_global", tally.q6_global()}, {"Q6_local_mean", tally.q6_loc()},
                 {"Q6_local_crystalline", tally.q6_loc_cr()}, {"crystalline_fraction", tally.x_cr()},
@@ -112,7 +114,7 @@ OrderAtCutoff order_at(const PackingView<3>& v, double dc_over_a) {
   double q4sum[2] = {0, 0};
   for (std::size_t i = 0; i < nown; ++i)
     if (q4[i].n_bonds > 0) q4sum[0] += q4[i].Q, q4sum[1] += 1;
-  MPI_Allreduce(MPI_IN_PLACE, q4sum, 2, MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, q4sum);
   out.table2["Q4_local_mean"] = q4sum[1] > 0 ? q4sum[0] / q4sum[1] : 0.0;
   return out;
 }

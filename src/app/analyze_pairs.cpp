@@ -8,13 +8,14 @@
 
 #include "granpack/analysis/pair_statistics.h"
 #include "granpack/app/analysis_sections.h"
+#include "granpack/comm/reduce.h"
 
 namespace granpack {
 
 namespace {
 
 template <class Acc> void all_reduce(Acc& acc, MPI_Comm world) {
-  MPI_Allreduce(MPI_IN_PLACE, acc.sums().data(), int(acc.sums().size()), MPI_DOUBLE, MPI_SUM, world);
+  global_sum_in_place(world, acc.sums());
 }
 
 nlohmann::json fit_json(const std::vector<double>& h, const std::vector<double>& z) {

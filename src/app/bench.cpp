@@ -23,6 +23,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "granpack/comm/barrier.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
@@ -236,8 +237,7 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   MdEngine<3> engine(ctx, law, s);
   const StepTimers setup = engine.timers();
   const std::int64_t rebuilds0 = engine.rebuilds();
-  MPI_Barrier(world);
-  const double t0 = MPI_Wtime();
+  const double t0 = synchronized_wtime(world);
   // Each step's force time, for the per-step balance below.
   std::vector<double> step_forces(static_cast<std::size_t>(o.steps));
   for (std::int64_t k = 0; k < o.steps; ++k) {
@@ -245,8 +245,7 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
     engine.step();
     step_forces[static_cast<std::size_t>(k)] = engine.timers().forces - f0;
   }
-  MPI_Barrier(world);
-  const double wall = MPI_Wtime() - t0;
+  const double wall = synchronized_wtime(world) - t0;
   StepTimers t = engine.timers();
   t.integrate -= setup.integrate;
   t.neighbor -= setup.neighbor;
@@ -257,15 +256,14 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   // Load balance: the slowest rank's force time over the mean (the others wait for it in the
   // halo exchange, which the breakdown counts as communication).
   const double forces_max = global_max(world, t.forces);
-  MPI_Allreduce(MPI_IN_PLACE, phases, 4, MPI_DOUBLE, MPI_SUM, world);
+  global_sum_in_place(world, phases);
   for (double& x : phases) x /= ranks;
   // The same ratio step by step: every step the ranks meet at the reverse halo exchange, so
   // each waits for that step's slowest force pass. Sum over steps of the slowest rank's time
   // over the mean: above the whole-run ratio when the ranks take turns being slow (jitter of
   // a shared or virtual machine), equal to it for a steady imbalance.
   std::vector<double> step_max(step_forces.size());
-  MPI_Allreduce(step_forces.data(), step_max.data(), static_cast<int>(step_forces.size()),
-                MPI_DOUBLE, MPI_MAX, world);
+  global_max(world, step_forces, step_max);
   double forces_step_max = 0;
   for (double x : step_max) forces_step_max += x;
   const double rss_peak = peak_resident_bytes();

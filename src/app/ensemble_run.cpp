@@ -1,10 +1,10 @@
 #include "granpack/app/ensemble_run.h"
 
 #include <algorithm>
-#include <chrono>
-#include <thread>
 #include <vector>
 
+#include "granpack/comm/barrier.h"
+#include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
@@ -40,21 +40,7 @@ SampleStart sample_start(MPI_Comm group, const std::filesystem::path& dir, bool 
     else if (std::filesystem::exists(dir / "checkpoint.h5"))
       what = static_cast<int>(SampleStart::resume);
   }
-  MPI_Bcast(&what, 1, MPI_INT, 0, group);
-  return static_cast<SampleStart>(what);
-}
-
-/// Waits for every rank of `world` without spinning: a group that finished early must not
-/// take a core from the groups still running (ranks may outnumber cores).
-void idle_barrier(MPI_Comm world) {
-  MPI_Request request;
-  MPI_Ibarrier(world, &request);
-  int done = 0;
-  while (true) {
-    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
-    if (done) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  return static_cast<SampleStart>(broadcast_value(group, what));
 }
 
 /// The job's exit code from the groups': an error beats a checkpointed stop beats success.
@@ -88,8 +74,7 @@ int run_ensemble(MPI_Comm world, const EnsembleOptions& o) {
 
   const int groups = size / per_sample;
   const int color = rank_of(world) / per_sample;
-  MPI_Comm group;
-  MPI_Comm_split(world, color, rank_of(world), &group);
+  MPI_Comm group = split_communicator(world, color, rank_of(world));
   Log log(rank_of(world) == 0, false);
   log.info("ensemble: " + std::to_string(o.samples) + " samples of " + o.run.deck.string() +
            " (seeds " + std::to_string(o.first_seed) + ".." +
@@ -130,7 +115,7 @@ int run_ensemble(MPI_Comm world, const EnsembleOptions& o) {
       if (code == kExitOk || code == kExitCheckpointed) code = e.exit_code();
     }
   }
-  MPI_Comm_free(&group);
+  free_communicator(group);
   idle_barrier(world);
   const int job = combine_codes(world, code);
   log.info("ensemble: " + std::string(job == kExitOk ? "every sample finished"

@@ -36,7 +36,7 @@ Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path,
       ok = 0;
     }
   }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, world);
+  ok = broadcast_value(world, ok);
   broadcast_string(world, text);
   if (!ok) throw InputError(text);  // on every rank, same message
   if (seed) text = reseeded_deck_text(text, path.string(), *seed);
@@ -285,7 +285,7 @@ std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>
       if (const auto* r = std::get_if<ReadStage>(&st.params)) {
         int missing = 0;
         if (rank == 0) missing = std::filesystem::exists(r->file) ? 0 : 1;
-        MPI_Bcast(&missing, 1, MPI_INT, 0, world);
+        missing = broadcast_value(world, missing);
         if (missing)
           throw InputError(deck.file + ": stage " + std::to_string(st.index) + " '" + st.name +
                            "' (read): file '" + r->file +

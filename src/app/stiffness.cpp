@@ -16,6 +16,7 @@
 
 #include "granpack/analysis/force_statistics.h"
 #include "granpack/app/analysis_sections.h"
+#include "granpack/comm/allgather.h"
 #include "granpack/packing/packing_view.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/derived_constants.h"
@@ -52,14 +53,7 @@ template <int dim> std::vector<GlobalId> gather_rattlers(const PackingView<dim>&
   std::vector<GlobalId> mine;
   for (std::size_t i = 0; i < v.particles().n_owned(); ++i)
     if (v.rattler(i)) mine.push_back(v.particles().id[i]);
-  int size = 1;
-  MPI_Comm_size(v.world, &size);
-  int count = int(mine.size());
-  std::vector<int> counts(size), displs(size, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, v.world);
-  for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
-  std::vector<GlobalId> all(displs[size - 1] + counts[size - 1]);
-  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), displs.data(), MPI_INT64_T, v.world);
+  std::vector<GlobalId> all = allgather_concat(v.world, mine);
   std::sort(all.begin(), all.end());
   return all;
 }
@@ -69,7 +63,7 @@ template <int dim> double z_five_thirds(const PackingView<dim>& v) {
   ForceMomentSums sums({5.0 / 3.0});
   for (const auto& c : v.contacts)
     if (on_backbone(v, c)) sums.add(ContactForceSample{c.normal_force, 0, 0, 0, 0});
-  MPI_Allreduce(MPI_IN_PLACE, sums.sums().data(), int(sums.sums().size()), MPI_DOUBLE, MPI_SUM, v.world);
+  global_sum_in_place(v.world, sums.sums());
   const double mean = sums.mean_normal_force();
   return sums.sums()[3] / sums.contacts() / std::pow(mean, 5.0 / 3.0);
 }

@@ -7,21 +7,7 @@
 namespace granpack {
 
 std::vector<double> gather_values(const std::vector<double>& mine, MPI_Comm comm, int root) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(rank == root ? std::size_t(size) : 0), displs(counts.size());
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm);
-  std::vector<double> all;
-  if (rank == root) {
-    int total = 0;
-    for (std::size_t r = 0; r < counts.size(); ++r) displs[r] = total, total += counts[r];
-    all.resize(static_cast<std::size_t>(total));
-  }
-  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
-              root, comm);
-  return all;
+  return gather_on_root(comm, mine, root);
 }
 
 template <int dim>

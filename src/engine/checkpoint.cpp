@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "granpack/comm/broadcast.h"
+#include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/engine/run_context.h"
 #include "granpack/engine/state_file.h"
@@ -49,9 +51,7 @@ int Checkpointer::clock_request() const {
 }
 
 int Checkpointer::global_request(std::int64_t step_after) const {
-  int bits = local_request(step_after);
-  MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, world_);
-  return bits;
+  return global_bit_or(world_, local_request(step_after));
 }
 
 bool Checkpointer::take_now(int bits) {
@@ -91,8 +91,8 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
   if (mid_stage)
     for (const auto& f : ctx.frames) st["frames"].push_back(f());
   // Rank 0's clock: the run state must be the same text on every rank.
-  double wall = earlier_wall_seconds + std::chrono::duration<double>(t0 - start_).count();
-  MPI_Bcast(&wall, 1, MPI_DOUBLE, 0, world_);
+  const double wall =
+      broadcast_value(world_, earlier_wall_seconds + std::chrono::duration<double>(t0 - start_).count());
   st["wall_seconds"] = wall;
   write_state(ctx, policy_.file, st.dump());
   last_ = std::chrono::steady_clock::now();

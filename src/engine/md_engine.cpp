@@ -95,7 +95,7 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   local[2 * nt] = ek;
   local[2 * nt + 1] = static_cast<double>(sums.interacting);
   ScopedPhase t(timers_.comm);
-  MPI_Allreduce(local, global, 2 * nt + 2, MPI_DOUBLE, MPI_SUM, ctx_.world);
+  global_sum(ctx_.world, local, global);
   const double volume = sys.cell.volume();
   obs_.stress = Eigen::Map<Tensor<dim>>(global) / volume;
   obs_.stress_elastic = Eigen::Map<Tensor<dim>>(global + nt) / volume;
@@ -104,7 +104,7 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   // The largest overlap and the largest displacement in a step (|v| dt with the velocity
   // that drifted the grains), in one all-reduce.
   double mx[2] = {sums.max_overlap, std::sqrt(v2max) * settings_.dt};
-  MPI_Allreduce(MPI_IN_PLACE, mx, 2, MPI_DOUBLE, MPI_MAX, ctx_.world);
+  global_max_in_place(ctx_.world, mx);
   obs_.max_overlap = mx[0];
   obs_.max_step_displacement = mx[1];
 }
@@ -146,7 +146,7 @@ template <int dim> void MdEngine<dim>::step() {
   {
     ScopedPhase t(timers_.comm);
     fault_point(FaultPoint::kCollective);
-    MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, ctx_.world);
+    bits = global_bit_or(ctx_.world, bits);
   }
   // A checkpoint inside a stage needs the stage's state (its frame); stages without one
   // checkpoint at their end (run_deck). It waits for a step that rebuilds anyway (take_now).

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "granpack/comm/reduce.h"
 #include "granpack/core/particles.h"
 
 namespace granpack {
@@ -19,7 +20,7 @@ template <int dim> CellControl<dim> cell_control_of(RunContext<dim>& ctx, const 
   double total_mass = 0;
   for (std::size_t i = 0; i < ctx.system.particles.n_owned(); ++i)
     total_mass += ctx.system.particles.mass[i];
-  MPI_Allreduce(MPI_IN_PLACE, &total_mass, 1, MPI_DOUBLE, MPI_SUM, ctx.world);
+  total_mass = global_sum(ctx.world, total_mass);
   cell.mass = c.cell_mass * total_mass;
   // [GRC] eq. 3 drives the strain eps = -L/L0 with M = 0.3 sum m / L (L in units of a); in
   // the form M' d2L/dt2 = (Omega/L_a)(sigma - Sigma) used here this is M' = M a / L0 for a

@@ -18,6 +18,8 @@
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/fault_injection.h"
 #include "granpack/comm/id_consistency.h"
+#include "granpack/comm/reduce.h"
+#include "granpack/comm/scan.h"
 #include "granpack/io/atomic_file.h"
 #include "granpack/io/hdf5_handle.h"
 #include "granpack/io/hdf5_string_guard.h"
@@ -601,8 +603,7 @@ Handle open_for_reading(MPI_Comm comm, const FileContext& ctx) {
 void write_text_dataset(const FileContext& ctx, hid_t file, MPI_Comm comm, const char* name,
                         const std::string& text) {
   const std::string what = std::string("dataset /") + name;
-  unsigned long long size = std::max<std::size_t>(text.size(), 1);
-  MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+  const auto size = broadcast_value<unsigned long long>(comm, std::max<std::size_t>(text.size(), 1));
   auto type = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot create " + what));
   ctx.rc(H5Tset_size(type, static_cast<std::size_t>(size)), "cannot create " + what);
   ctx.rc(H5Tset_strpad(type, H5T_STR_NULLPAD), "cannot create " + what);
@@ -930,10 +931,8 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
   std::int64_t local[2] = {static_cast<std::int64_t>(c.particles.n_owned()),
                            static_cast<std::int64_t>(c.contacts.size())};
   std::int64_t offset[2] = {0, 0}, total[2] = {0, 0};
-  MPI_Exscan(local, offset, 2, MPI_INT64_T, MPI_SUM, comm);
-  if (rank == 0)
-    offset[0] = offset[1] = 0; // MPI_Exscan leaves rank 0's result undefined
-  MPI_Allreduce(local, total, 2, MPI_INT64_T, MPI_SUM, comm);
+  exclusive_prefix_sum(comm, local, offset);
+  global_sum(comm, local, total);
   const Slice ps{total[0], offset[0], local[0]}, cs{total[1], offset[1], local[1]};
 
   CollectiveError err;

@@ -35,7 +35,7 @@ Backbone find_backbone(const ParticleStore<dim>& p, const Halo<dim>& halo,
       force_sums[0] += c.normal_force;
       force_sums[1] += c.normal_force * c.normal_force;
     }
-  MPI_Allreduce(MPI_IN_PLACE, force_sums, 2, MPI_DOUBLE, MPI_SUM, d.comm());
+  global_sum_in_place(d.comm(), force_sums);
   auto& m = b.metrics;
   m.n = global_sum(d.comm(), static_cast<std::int64_t>(p.n_owned()));
   m.rattlers = global_sum(d.comm(), local_r);

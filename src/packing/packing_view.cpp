@@ -107,7 +107,7 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   for (const auto& c : v.contacts)
     virial += (c.total_normal_force() * c.branch.normalized() + c.tangential_force) *
               c.branch.transpose();
-  MPI_Allreduce(MPI_IN_PLACE, virial.data(), dim * dim, MPI_DOUBLE, MPI_SUM, world);
+  global_sum_in_place(world, std::span<double>(virial.data(), dim * dim));
   v.stress = virial / sys.cell.volume();
   v.pressure = v.stress.trace() / dim;
   // [AR]'s scale a^2 P; with cohesion [GRC]'s F1 = max(F0, a^2 P) (II D), as the engine's

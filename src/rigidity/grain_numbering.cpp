@@ -5,36 +5,11 @@
 #include <algorithm>
 #include <numeric>
 
+#include "granpack/comm/broadcast.h"
+#include "granpack/comm/gather.h"
 #include "granpack/core/error.h"
 
 namespace granpack {
-
-namespace {
-
-/// Concatenates every rank's vector on rank 0 (in rank order); returns the rank of each
-/// element's origin alongside.
-template <class T>
-std::vector<T> gather_on_root(MPI_Comm comm, const std::vector<T>& mine, std::vector<int>* origin) {
-  int size = 1, rank = 0;
-  MPI_Comm_size(comm, &size);
-  MPI_Comm_rank(comm, &rank);
-  const int bytes = static_cast<int>(mine.size() * sizeof(T));
-  std::vector<int> counts(size), displs(size, 0);
-  MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
-  std::vector<T> all;
-  if (rank == 0) {
-    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
-    all.resize((displs[size - 1] + counts[size - 1]) / sizeof(T));
-    if (origin) {
-      origin->clear();
-      for (int r = 0; r < size; ++r) origin->insert(origin->end(), counts[r] / sizeof(T), r);
-    }
-  }
-  MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0, comm);
-  return all;
-}
-
-}  // namespace
 
 GrainNumbering number_backbone_grains(MPI_Comm comm, const std::vector<GlobalId>& owned_grains,
                                       const std::vector<std::pair<GlobalId, GlobalId>>& edges) {
@@ -42,8 +17,9 @@ GrainNumbering number_backbone_grains(MPI_Comm comm, const std::vector<GlobalId>
   MPI_Comm_size(comm, &size);
   MPI_Comm_rank(comm, &rank);
   std::vector<int> owner;
-  const std::vector<GlobalId> ids = gather_on_root(comm, owned_grains, &owner);
-  const auto pairs = gather_on_root(comm, edges, nullptr);
+  // As bytes, as the ids travelled before comm/ gathered them (the same bits either way).
+  const std::vector<GlobalId> ids = gather_on_root<Transfer::bytes>(comm, owned_grains, 0, &owner);
+  const auto pairs = gather_on_root(comm, edges);
 
   GrainNumbering num;
   std::vector<GlobalId> ordered;       // ids in global-index order
@@ -96,15 +72,14 @@ GrainNumbering number_backbone_grains(MPI_Comm comm, const std::vector<GlobalId>
     });
     for (idx_t u : order) ordered.push_back(ids[u]), ++per_part[part[u]];
   }
-  MPI_Bcast(&error, 1, MPI_INT, 0, comm);
+  error = broadcast_value(comm, error);
   GRANPACK_CHECK(error != 1, "stiffness: a backbone contact names a grain that is not on the backbone");
   GRANPACK_CHECK(error != 2, "stiffness: METIS failed to partition the contact graph");
-  std::int64_t n = static_cast<std::int64_t>(ordered.size());
-  MPI_Bcast(&n, 1, MPI_INT64_T, 0, comm);
-  MPI_Bcast(cuts, 2, MPI_INT64_T, 0, comm);
-  MPI_Bcast(per_part.data(), size, MPI_INT64_T, 0, comm);
+  const auto n = broadcast_value(comm, static_cast<std::int64_t>(ordered.size()));
+  broadcast_in_place(comm, cuts);
+  broadcast_in_place(comm, per_part);
   ordered.resize(n);
-  MPI_Bcast(ordered.data(), static_cast<int>(n), MPI_INT64_T, 0, comm);
+  broadcast_in_place(comm, ordered);
 
   num.grains = n;
   num.ids = std::move(ordered);

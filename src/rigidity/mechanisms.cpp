@@ -7,6 +7,8 @@
 #include <cmath>
 #include <set>
 
+#include "granpack/comm/allgather.h"
+
 namespace granpack {
 
 namespace {
@@ -214,14 +216,7 @@ std::vector<std::vector<GlobalId>> floppy_modes(Mat a, const GrainNumbering& num
       local[2 * i] = double(numbering.first + i), local[2 * i + 1] = std::sqrt(a2);
     }
     GRANPACK_PETSC(VecRestoreArrayRead(vectors[k], &x));
-    int size = 1;
-    MPI_Comm_size(comm, &size);
-    const int mine = int(local.size());
-    std::vector<int> counts(size), displs(size, 0);
-    MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
-    std::vector<double> all(displs[size - 1] + counts[size - 1]);
-    MPI_Allgatherv(local.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+    const std::vector<double> all = allgather_concat(comm, local);
     std::vector<std::pair<double, GlobalId>> amp;
     double largest = 0;
     for (std::size_t i = 0; i + 1 < all.size(); i += 2) largest = std::max(largest, all[i + 1]);

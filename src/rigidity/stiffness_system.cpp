@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "granpack/comm/allgather.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/reduce.h"
 
@@ -65,7 +66,7 @@ template <int dim> void finish_bordered(BorderedMatrix<dim>& b, MPI_Comm comm) {
     GRANPACK_PETSC(VecAssemblyBegin(b.eu[a]));
     GRANPACK_PETSC(VecAssemblyEnd(b.eu[a]));
   }
-  MPI_Allreduce(MPI_IN_PLACE, b.ee.data(), dim * dim, MPI_DOUBLE, MPI_SUM, comm);
+  global_sum_in_place(comm, std::span<double>(b.ee.data(), dim * dim));
 }
 
 }  // namespace
@@ -217,12 +218,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   s.mean_kn = global_sum(v.world, sum_kn) / std::max<std::int64_t>(1, global_sum(v.world, touching));
 
   // Every rank gets every divalent record (a few per cent of the grains, 40 bytes each).
-  const int bytes = int(divalent.size() * sizeof(DivalentContact));
-  std::vector<int> counts_b(size), displs(size, 0);
-  MPI_Allgather(&bytes, 1, MPI_INT, counts_b.data(), 1, MPI_INT, v.world);
-  for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts_b[r - 1];
-  s.divalent.resize((displs[size - 1] + counts_b[size - 1]) / sizeof(DivalentContact));
-  MPI_Allgatherv(divalent.data(), bytes, MPI_BYTE, s.divalent.data(), counts_b.data(), displs.data(), MPI_BYTE, v.world);
+  s.divalent = allgather_concat(v.world, divalent);
   std::sort(s.divalent.begin(), s.divalent.end(), [](const auto& a, const auto& b) {
     return a.grain != b.grain ? a.grain < b.grain : a.neighbour < b.neighbour;
   });

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "granpack/comm/reduce.h"
+
 namespace granpack {
 
 template <int dim>
@@ -37,8 +39,8 @@ VirtualWork check_virtual_work(const StiffnessSystem<dim>& s, const Vec<dim>& pr
       else local_max = std::max(local_max, std::abs(x[i - first]));
     }
     GRANPACK_PETSC(VecRestoreArrayRead(loads, &x));
-    MPI_Allreduce(&local_max, &w.max_grain_force, 1, MPI_DOUBLE, MPI_MAX, s.comm);
-    MPI_Allreduce(MPI_IN_PLACE, strain.data(), dim, MPI_DOUBLE, MPI_SUM, s.comm);
+    w.max_grain_force = global_max(s.comm, local_max);
+    global_sum_in_place(s.comm, strain);
   }
   for (int a = 0; a < dim; ++a) w.stress_from_forces[a] = strain[a] * s.layout.cell[a] / volume;
 

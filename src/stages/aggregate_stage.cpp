@@ -39,7 +39,7 @@ template <int dim> void draw_maxwell_velocities(RunContext<dim>& ctx, double v0,
     momentum += p.mass[i] * p.velocity[i];
     mass += p.mass[i];
   }
-  MPI_Allreduce(MPI_IN_PLACE, momentum.data(), dim, MPI_DOUBLE, MPI_SUM, ctx.world);
+  global_sum_in_place(ctx.world, std::span<double>(momentum.data(), dim));
   mass = global_sum(ctx.world, mass);
   const Vec<dim> drift = momentum / mass;
   for (std::size_t i = 0; i < p.n_owned(); ++i) p.velocity[i] -= drift;

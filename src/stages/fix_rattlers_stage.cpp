@@ -17,6 +17,7 @@
 #include <random>
 #include <sstream>
 
+#include "granpack/comm/allgather.h"
 #include "granpack/comm/halo.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/derived_constants.h"
@@ -44,16 +45,7 @@ template <int dim> Vec<dim> push_direction(GlobalId id, std::uint64_t seed) {
 
 /// Ids of every rank's rattlers, sorted, on every rank.
 std::vector<GlobalId> all_ids(MPI_Comm comm, const std::vector<GlobalId>& mine) {
-  int size = 1;
-  MPI_Comm_size(comm, &size);
-  int count = static_cast<int>(mine.size());
-  std::vector<int> counts(size), displs(size);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  int total = 0;
-  for (int r = 0; r < size; ++r) displs[r] = total, total += counts[r];
-  std::vector<GlobalId> all(static_cast<std::size_t>(total));
-  MPI_Allgatherv(mine.data(), count, MPI_INT64_T, all.data(), counts.data(), displs.data(),
-                 MPI_INT64_T, comm);
+  std::vector<GlobalId> all = allgather_concat(comm, mine);
   std::sort(all.begin(), all.end());
   return all;
 }
@@ -201,7 +193,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
     ++hist[static_cast<std::size_t>(z)];
     if (is_rattler(p.id[i]) && z >= dim) ++resting;
   }
-  MPI_Allreduce(MPI_IN_PLACE, hist.data(), max_z + 1, MPI_INT64_T, MPI_SUM, ctx.world);
+  global_sum_in_place(ctx.world, hist);
   resting = global_sum(ctx.world, resting);
 
   StageReport r;

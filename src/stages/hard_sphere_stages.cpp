@@ -28,10 +28,12 @@
 #include <sstream>
 
 #include "granpack/analysis/translational_order.h"
+#include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/fault_injection.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/migration.h"
+#include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/dynamics/hard_sphere_md.h"
 #include "granpack/io/base64.h"
@@ -132,7 +134,7 @@ template <int dim> void run_in_pieces(RunContext<dim>& ctx, const std::function<
     fault_point(FaultPoint::kPiece, pieces);
     if (fault_point(FaultPoint::kPieceHold, pieces)) wait_for_stop_signal();
     if (ctx.checkpointer) bits |= ctx.checkpointer->clock_request();
-    MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, ctx.world);
+    bits = global_bit_or(ctx.world, bits);
     // Once the engine is done, a pending stop is honoured after the stage (run_deck).
     if (bits & kFinished) return;
     if (bits & kRequestCheckpoint) {
@@ -247,7 +249,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage&
       stats[4] = static_cast<double>(peaks.m.size());
     }
   });
-  MPI_Bcast(stats, 5, MPI_DOUBLE, 0, ctx.world);
+  broadcast_in_place(ctx.world, stats);
   scatter_back(ctx, g, x);
   const double n = static_cast<double>(ctx.deck->sample.n);
   std::ostringstream os;
@@ -357,7 +359,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressS
     stats[intervals] = gas->radii().front() / r0;
     x = gas->positions();
   });
-  MPI_Bcast(stats.data(), static_cast<int>(stats.size()), MPI_DOUBLE, 0, ctx.world);
+  broadcast_in_place(ctx.world, stats);
   // The grains keep their diameter: the cell shrinks by the growth factor instead.
   const double growth = stats[intervals];
   for (auto& xi : x) xi /= growth;

@@ -4,6 +4,7 @@
 // (e.g. [AR] procedure C from a stored A state).
 #include <sstream>
 
+#include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/stages/stages.h"
@@ -20,8 +21,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const ReadStage& 
                      std::to_string(dim) + "D");
   adopt_configuration(ctx, read_configuration<dim>(ctx.world, r.file));
   ctx.system.cell.rate.setZero();
-  std::int64_t n = static_cast<std::int64_t>(ctx.system.particles.n_owned());
-  MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_INT64_T, MPI_SUM, ctx.world);
+  const std::int64_t n = global_sum(ctx.world, static_cast<std::int64_t>(ctx.system.particles.n_owned()));
   if (n != ctx.deck->sample.n)
     throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) + "] (read) file = \"" +
                      r.file + "\" holds " + std::to_string(n) + " grains but [sample] n = " +
