@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "granpack/app/analysis_sections.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/io/json_hdf5.h"
 #include "granpack/io/report.h"
@@ -136,8 +137,7 @@ std::string analyze_file(MPI_Comm world, const AnalyzeOptions& options) {
   const FileMeta meta = read_file_meta(world, options.file);
   nlohmann::json j = meta.dimension == 3 ? analyze<3>(world, options, meta)
                                          : analyze<2>(world, options, meta);
-  int rank = 0;
-  MPI_Comm_rank(world, &rank);
+  const int rank = rank_of(world);
   if (rank == 0) {
     if (options.print_table) std::cout << table(j);
     if (options.json) write_text_atomically(*options.json, j.dump(2) + "\n");

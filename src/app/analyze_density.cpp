@@ -8,6 +8,7 @@
 #include "granpack/analysis/density_correlation.h"
 #include "granpack/app/analysis_sections.h"
 #include "granpack/comm/broadcast.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/gather.h"
 
 namespace granpack {
@@ -35,8 +36,7 @@ nlohmann::json fit_json(const FractalFit& f, double a, double l_cell) {
 
 nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o) {
   const auto grains = gather_particles(v.particles(), v.world);
-  int rank = 0;
-  MPI_Comm_rank(v.world, &rank);
+  const int rank = rank_of(v.world);
   std::string text;
   if (rank == 0) {
     const Vec<2> L = v.system.cell.length;

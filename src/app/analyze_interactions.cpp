@@ -11,6 +11,7 @@
 #include "granpack/analysis/interaction_forces.h"
 #include "granpack/app/analysis_sections.h"
 #include "granpack/comm/broadcast.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/derived_constants.h"
@@ -36,8 +37,7 @@ nlohmann::json histogram_json(const Histogram& h) {
 template <int dim> PercolationResult percolation(const PackingView<dim>& v, const std::vector<double>& mine) {
   const std::vector<double> all = gather_values(mine, v.world);
   const auto grains = gather_particles(v.particles(), v.world);
-  int rank = 0;
-  MPI_Comm_rank(v.world, &rank);
+  const int rank = rank_of(v.world);
   double out[3] = {0, 0, 0};
   if (rank == 0) {
     std::unordered_map<GlobalId, std::int64_t> dense;

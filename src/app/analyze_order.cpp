@@ -9,6 +9,7 @@
 #include "granpack/analysis/bond_order.h"
 #include "granpack/app/analysis_sections.h"
 #include "granpack/comm/broadcast.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/reduce.h"
 
@@ -80,8 +81,7 @@ OrderAtCutoff order_at(const PackingView<3>& v, double dc_over_a) {
   global_sum_in_place(v.world, out.window_counts);
 
   // Clusters on rank 0.
-  int rank = 0;
-  MPI_Comm_rank(v.world, &rank);
+  const int rank = rank_of(v.world);
   const std::vector<double> all = gather_values(cluster_data, v.world);
   double mass_average = 0;
   if (rank == 0) {

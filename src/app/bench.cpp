@@ -24,6 +24,7 @@
 #include <sstream>
 
 #include "granpack/comm/barrier.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
@@ -124,9 +125,7 @@ void write_lammps_data(const std::filesystem::path& path, const std::vector<Part
 }  // namespace
 
 std::string run_bench(MPI_Comm world, const BenchOptions& o) {
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(world, &rank);
-  MPI_Comm_size(world, &ranks);
+  const int rank = rank_of(world), ranks = size_of(world);
   const bool root = rank == 0;
   const double rss_base = resident_bytes();
 

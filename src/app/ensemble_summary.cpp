@@ -11,6 +11,7 @@
 #include "granpack/app/analyze.h"
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/core/error.h"
 #include "granpack/io/report.h"
 
@@ -247,8 +248,7 @@ json summarize_samples(const std::vector<SampleDocuments>& samples) {
 }
 
 std::string summarize_ensemble(MPI_Comm world, const EnsembleSummaryOptions& options) {
-  int rank = 0;
-  MPI_Comm_rank(world, &rank);
+  const int rank = rank_of(world);
   const auto& out = options.directory;
   // The files to analyse, listed on rank 0 and broadcast: every rank opens the same ones.
   std::string listing;

@@ -8,6 +8,7 @@
 
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
@@ -24,8 +25,7 @@ namespace granpack {
 /// and throw the same InputError together; with `seed`, the deck reseeded (deck_seed.h).
 Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path,
                             std::optional<std::uint64_t> seed) {
-  int rank = 0;
-  MPI_Comm_rank(world, &rank);
+  const int rank = rank_of(world);
   std::string text;
   int ok = 1;
   if (rank == 0) {
@@ -55,8 +55,7 @@ std::string fmt_opt(const std::optional<double>& v) {
 
 /// The stage's MD phase times over the ranks (collective); none when it ran no MD step.
 std::optional<PhaseSeconds> phase_seconds_over_ranks(MPI_Comm world, const StepTimers& t) {
-  int size = 1;
-  MPI_Comm_size(world, &size);
+  const int size = size_of(world);
   const auto sum = global_sum(world, std::array{t.forces, t.neighbor, t.comm, t.integrate, t.forces_cpu});
   const auto max = global_max(world, std::array{t.forces, t.forces_cpu});
   if (sum[0] + sum[1] + sum[2] + sum[3] <= 0) return std::nullopt;
@@ -97,8 +96,7 @@ template <int dim> void restore(RunContext<dim>& ctx, const std::filesystem::pat
   }
   ctx.system.time = c.meta.time;
   ctx.system.step = c.meta.step;
-  int size = 1;
-  MPI_Comm_size(ctx.world, &size);
+  const int size = size_of(ctx.world);
   std::array<int, dim> grid{};
   const bool same_grid = size == state.ranks && state.grid.size() == dim;
   if (same_grid) std::copy(state.grid.begin(), state.grid.end(), grid.begin());
@@ -175,9 +173,7 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
 
 int run_deck(MPI_Comm world, const RunOptions& options) {
   auto t0 = std::chrono::steady_clock::now();
-  int rank = 0, size = 1;
-  MPI_Comm_rank(world, &rank);
-  MPI_Comm_size(world, &size);
+  const int rank = rank_of(world), size = size_of(world);
 
   // 1. Validate everything before touching the output directory.
   Deck deck = load_deck_collectively(world, options.deck, options.seed);
@@ -270,8 +266,7 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
 }
 
 std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>& decks) {
-  int rank = 0;
-  MPI_Comm_rank(world, &rank);
+  const int rank = rank_of(world);
   std::ostringstream os;
   for (const auto& path : decks) {
     const Deck deck = load_deck_collectively(world, path, std::nullopt);

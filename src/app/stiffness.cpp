@@ -17,6 +17,7 @@
 #include "granpack/analysis/force_statistics.h"
 #include "granpack/app/analysis_sections.h"
 #include "granpack/comm/allgather.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/packing/packing_view.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/derived_constants.h"
@@ -256,8 +257,7 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   } else {
     j["bulk_modulus_eq30"] = nullptr;
   }
-  int size = 1;
-  MPI_Comm_size(world, &size);
+  const int size = size_of(world);
   j["ranks"] = size;
   j["partition"] = {{"method", s.numbering.metis ? "metis" : "none (one rank)"},
                     {"edge_cut_metis", s.numbering.edge_cut_metis},
@@ -346,8 +346,7 @@ std::string table(const nlohmann::json& j) {
 std::string stiffness_file(MPI_Comm world, const StiffnessOptions& options) {
   const FileMeta meta = read_file_meta(world, options.file);
   nlohmann::json j = meta.dimension == 3 ? stiffness<3>(world, options, meta) : stiffness<2>(world, options, meta);
-  int rank = 0;
-  MPI_Comm_rank(world, &rank);
+  const int rank = rank_of(world);
   if (rank == 0) {
     std::cout << table(j);
     if (options.json) write_text_atomically(*options.json, j.dump(2) + "\n");

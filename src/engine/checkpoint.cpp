@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "granpack/comm/broadcast.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/engine/run_context.h"
@@ -31,7 +32,7 @@ double exact_double(const nlohmann::json& j) {
 Checkpointer::Checkpointer(MPI_Comm world, CheckpointPolicy policy)
     : world_(world), policy_(std::move(policy)), last_(std::chrono::steady_clock::now()),
       start_(last_) {
-  MPI_Comm_rank(world_, &rank_);
+  rank_ = rank_of(world_);
 }
 
 int Checkpointer::local_request(std::int64_t step_after) const {
@@ -80,8 +81,7 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
   st["format"] = 2;
   st["stage_index"] = mid_stage ? ctx.stage_index : ctx.stage_index + 1;
   st["mid_stage"] = mid_stage;
-  int size = 1;
-  MPI_Comm_size(world_, &size);
+  const int size = size_of(world_);
   st["ranks"] = size;
   st["grid"] = std::vector<int>(ctx.decomposition->dims().begin(), ctx.decomposition->dims().end());
   st["completed"] = nlohmann::json::array();

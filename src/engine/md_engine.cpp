@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/fault_injection.h"
 #include "granpack/engine/stop_signals.h"
 #include "granpack/comm/migration.h"
@@ -198,8 +199,7 @@ template <int dim> void MdEngine<dim>::check_sanity() {
   }
   if (!finite && !err.has_local() && ctx_.world != MPI_COMM_NULL) {
     // Only the global sums are not finite: say so once, from rank 0.
-    int rank = 0;
-    MPI_Comm_rank(ctx_.world, &rank);
+    const int rank = rank_of(ctx_.world);
     if (rank == 0)
       err.record(at + "the stress or kinetic energy is not finite (likely fix: a smaller "
                       "[numerics] time_step_fraction)");

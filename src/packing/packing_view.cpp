@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "granpack/comm/clusters.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/derived_constants.h"
@@ -25,8 +26,7 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   const StateParameters parameters =
       meta.parameters ? *meta.parameters : replayed_parameters(v.deck, meta.stage_index);
   if (!meta.parameters) {
-    int rank = 0;
-    MPI_Comm_rank(world, &rank);
+    const int rank = rank_of(world);
     if (rank == 0)
       std::cerr << "granpack: " << file.string() << " has no /parameters (written by granpack "
                 << meta.granpack_version << "): its contact law and stress target are "

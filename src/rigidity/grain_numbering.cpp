@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "granpack/comm/broadcast.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/gather.h"
 #include "granpack/core/error.h"
 
@@ -13,9 +14,7 @@ namespace granpack {
 
 GrainNumbering number_backbone_grains(MPI_Comm comm, const std::vector<GlobalId>& owned_grains,
                                       const std::vector<std::pair<GlobalId, GlobalId>>& edges) {
-  int size = 1, rank = 0;
-  MPI_Comm_size(comm, &size);
-  MPI_Comm_rank(comm, &rank);
+  const int size = size_of(comm), rank = rank_of(comm);
   std::vector<int> owner;
   // As bytes, as the ids travelled before comm/ gathered them (the same bits either way).
   const std::vector<GlobalId> ids = gather_on_root<Transfer::bytes>(comm, owned_grains, 0, &owner);

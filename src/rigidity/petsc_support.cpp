@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "granpack/comm/communicator.h"
+
 namespace granpack {
 
 namespace detail {
@@ -28,8 +30,7 @@ namespace {
 /// are several ranks. Looked up at run time: nothing to do with another BLAS.
 void limit_blas_threads() {
   if (std::getenv("OPENBLAS_NUM_THREADS") || std::getenv("OMP_NUM_THREADS")) return;
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const int size = size_of(MPI_COMM_WORLD);
   if (size == 1) return;
   using SetThreads = void (*)(int);
   if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);

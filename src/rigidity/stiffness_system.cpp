@@ -5,6 +5,7 @@
 
 #include "granpack/comm/allgather.h"
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/reduce.h"
 
 namespace granpack {
@@ -140,9 +141,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   if (s.has_gram()) init_bordered(s.gram, v.world, g, num.local, nnz);
 
   // G: this rank's contact rows; columns laid out like K_uu's rows, strains on the last rank.
-  int rank = 0, size = 1;
-  MPI_Comm_rank(v.world, &rank);
-  MPI_Comm_size(v.world, &size);
+  const int rank = rank_of(v.world), size = size_of(v.world);
   const PetscInt local_cols = PetscInt(num.local) * g + (rank == size - 1 ? dim : 0);
   GRANPACK_PETSC(MatCreate(v.world, s.G.address()));
   GRANPACK_PETSC(MatSetSizes(s.G, local_rows, local_cols, PETSC_DETERMINE, PETSC_DETERMINE));

@@ -30,6 +30,7 @@
 #include "granpack/analysis/translational_order.h"
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/fault_injection.h"
 #include "granpack/comm/gather.h"
 #include "granpack/comm/migration.h"
@@ -123,8 +124,7 @@ constexpr std::int64_t kPiece = 2000;
 /// (then exit 75). Errors of rank 0 reach every rank at the end of the piece.
 template <int dim> void run_in_pieces(RunContext<dim>& ctx, const std::function<bool()>& piece) {
   constexpr int kFinished = 1 << 8;
-  int rank = 0;
-  MPI_Comm_rank(ctx.world, &rank);
+  const int rank = rank_of(ctx.world);
   for (std::int64_t pieces = 1;; ++pieces) {
     int bits = 0;
     collectively(ctx.world, [&] {
@@ -192,8 +192,7 @@ template <int dim> void require_sample(const RunContext<dim>& ctx) {
 
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage& e) {
   require_sample(ctx);
-  int rank = 0;
-  MPI_Comm_rank(ctx.world, &rank);
+  const int rank = rank_of(ctx.world);
   auto g = gather_particles(ctx.system.particles, ctx.world);
   // collisions, hard-sphere time, reduced pressure Z, lattice order (-1: not measured), peaks
   double stats[5] = {0, 0, 0, -1, 0};
@@ -275,8 +274,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage&
 
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressStage& l) {
   require_sample(ctx);
-  int rank = 0;
-  MPI_Comm_rank(ctx.world, &rank);
+  const int rank = rank_of(ctx.world);
   auto g = gather_particles(ctx.system.particles, ctx.world);
   // Collisions per grain in each interval [start, report_phi[0]], ..., [report_phi.back(), phi];
   // then the growth factor of the radii.
