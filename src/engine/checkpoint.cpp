@@ -58,10 +58,7 @@ int Checkpointer::global_request(std::int64_t step_after) const {
 bool Checkpointer::take_now(int bits) {
   if (!(bits & kRequestCheckpoint)) return false;
   if (bits & kRequestRebuild) return true;
-  if (++deferred_steps_ > kMaxDeferredSteps) {
-    forced_ = true;
-    return true;
-  }
+  if (++deferred_steps_ > kMaxDeferredSteps) return true;  // forced (write() says so)
   deferred_ = bits & (kRequestCheckpoint | kRequestStop);
   return false;
 }
@@ -102,7 +99,7 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
                 static_cast<long long>(ctx.system.step), mid_stage ? "inside the stage" : "after the stage",
                 std::chrono::duration<double>(last_ - t0).count());
   ctx.log->info(buf + std::string(": ") + policy_.file.string());
-  if (forced_) {
+  if (deferred_steps_ > kMaxDeferredSteps) {
     std::snprintf(buf, sizeof buf,
                   "  (forced: no neighbour-list rebuild in %lld steps after the request; a continuation "
                   "from it is not bit-identical to the run without it)",
@@ -111,7 +108,6 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
   }
   deferred_ = 0;
   deferred_steps_ = 0;
-  forced_ = false;
 }
 
 RunState parse_run_state(const std::string& text, const std::string& file) {

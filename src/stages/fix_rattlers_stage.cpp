@@ -208,7 +208,11 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
      << " steps; " << resting << " of " << rattlers.size() << " rattlers rest on >= " << dim
      << " contacts; x_i (II), %:";
   for (int z = 0; z <= max_z; ++z) {
-    r.values.emplace_back("x" + std::to_string(z) + "_II", double(hist[std::size_t(z)]) / n);
+    // Built by appends: GCC 12 warns (-Wrestrict, a false positive) on "x" + to_string(z) + "_II".
+    std::string key = "x";
+    key += std::to_string(z);
+    key += "_II";
+    r.values.emplace_back(key, double(hist[std::size_t(z)]) / n);
     if (hist[std::size_t(z)]) os << " " << z << ":" << 100.0 * double(hist[std::size_t(z)]) / n;
   }
   ctx.log->info(os.str());

@@ -94,8 +94,7 @@ private:
   int rank_ = 0;
   int written_ = 0;
   int deferred_ = 0;                  ///< request bits awaiting a list rebuild (take_now)
-  std::int64_t deferred_steps_ = 0;   ///< steps they have waited
-  bool forced_ = false;               ///< the next write was forced after kMaxDeferredSteps
+  std::int64_t deferred_steps_ = 0;   ///< steps they have waited (> kMaxDeferredSteps: forced)
 };
 
 /// What a checkpoint says of the run beyond the grains (parsed /run_state).
