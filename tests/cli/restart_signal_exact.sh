@@ -25,14 +25,19 @@ echo "random stop steps drawn with GRANPACK_TEST_SEED=$seed"
 chain() {
   np=$1 whole=$scratch/whole$1 out=$scratch/chain$1
   check_exit "$np rank(s): uninterrupted run" 0 "$whole.txt" run_deck "$whole" || return
-  # Each stop is drawn after the previous checkpoint and 50 steps before the end at the latest.
+  # Each stop is drawn after the previous checkpoint and 1050 steps before the end at the
+  # latest: its checkpoint waits up to 1000 steps for a neighbour-list rebuild, and a stop
+  # with no rebuild left before the end lets the run finish (exit 0, final.h5), as it should.
   local from last s c k restart=()
   from=$(sed -n 's/^  done: phi .*, steps \([0-9]*\),.*/\1/p' "$whole/log.txt" | head -n 1)
-  last=$(( $(final_step "$whole/final.h5") - 50 ))
-  echo "$np rank(s): $((last + 50)) steps; the random stage ends at step $from"
+  last=$(( $(final_step "$whole/final.h5") - 1050 ))
+  echo "$np rank(s): $((last + 1050)) steps; the random stage ends at step $from"
   for k in 1 2 3; do
+    # A checkpoint late in the run leaves no room for a further stop (rare): fewer stops.
+    [ "$from" -lt "$last" ] || { echo "$np rank(s): no room for stop $k after step $from"; break; }
     s=$(/usr/bin/python3 -c "import random; r = random.Random($seed * 10 + $np * 3 + $k)
-print(r.randrange($from + 1, $from + 1 + max(1, ($last - $from) // (4 - $k))))")
+lo = $from + 1; hi = min($last, lo + max(1, ($last - $from) // (4 - $k)))
+print(r.randrange(lo, hi + 1))")
     : > "$scratch/chain.txt"
     GRANPACK_FAULT=hold:$s start_leg "${restart[@]}"
     wait_until 3000 0.1 "[ \$(grep -c 'holds at step $s until a stop signal' '$scratch/chain.txt') -ge $np ]"
