@@ -56,8 +56,10 @@ std::string fmt_opt(const std::optional<double>& v) {
 /// The stage's MD phase times over the ranks (collective); none when it ran no MD step.
 std::optional<PhaseSeconds> phase_seconds_over_ranks(MPI_Comm world, const StepTimers& t) {
   const int size = size_of(world);
-  const auto sum = global_sum(world, std::array{t.forces, t.neighbor, t.comm, t.integrate, t.forces_cpu});
-  const auto max = global_max(world, std::array{t.forces, t.forces_cpu});
+  std::array sum{t.forces, t.neighbor, t.comm, t.integrate, t.forces_cpu};
+  std::array max{t.forces, t.forces_cpu};
+  global_sum_in_place(world, sum);
+  global_max_in_place(world, max);
   if (sum[0] + sum[1] + sum[2] + sum[3] <= 0) return std::nullopt;
   PhaseSeconds p;
   p.forces = sum[0] / size, p.neighbor = sum[1] / size, p.comm = sum[2] / size;

@@ -35,16 +35,6 @@ inline double global_max(MPI_Comm comm, double x) {
   return y;
 }
 
-/// Element-wise sums and maxima of a few doubles, in one all-reduce.
-template <std::size_t n> std::array<double, n> global_sum(MPI_Comm comm, std::array<double, n> x) {
-  MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm);
-  return x;
-}
-template <std::size_t n> std::array<double, n> global_max(MPI_Comm comm, std::array<double, n> x) {
-  MPI_Allreduce(MPI_IN_PLACE, x.data(), static_cast<int>(n), MPI_DOUBLE, MPI_MAX, comm);
-  return x;
-}
-
 /// The union of every rank's flag bits (requests such as "rebuild", "checkpoint", "stop").
 inline int global_bit_or(MPI_Comm comm, int bits) {
   MPI_Allreduce(MPI_IN_PLACE, &bits, 1, MPI_INT, MPI_BOR, comm);
