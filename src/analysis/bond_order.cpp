@@ -15,7 +15,9 @@ namespace {
 
 using Complex = std::complex<double>;
 
-std::size_t n_coefficients(int l) { return static_cast<std::size_t>(2 * l + 1); }
+std::size_t n_coefficients(int l) {
+  return static_cast<std::size_t>(2 * l + 1);
+}
 
 /// Y_lm(direction), m = -l..l, written to y[m + l] (y has 2l+1 entries).
 void fill_spherical_harmonics(int l, const Vec<3>& d, Complex* y) {
@@ -23,7 +25,7 @@ void fill_spherical_harmonics(int l, const Vec<3>& d, Complex* y) {
   GRANPACK_CHECK(std::isfinite(r) && r > 0.0,
                  "bond order: zero or non-finite bond vector (" << d.transpose() << ")");
   const double rho = std::hypot(d[0], d[1]);
-  const double theta = std::atan2(rho, d[2]);                   // polar angle in [0, pi]
+  const double theta = std::atan2(rho, d[2]);                  // polar angle in [0, pi]
   const double phi = rho > 0.0 ? std::atan2(d[1], d[0]) : 0.0; // azimuth (any on the axis)
   const auto ul = static_cast<unsigned>(l);
   const auto il = static_cast<std::size_t>(l);
@@ -31,11 +33,12 @@ void fill_spherical_harmonics(int l, const Vec<3>& d, Complex* y) {
     // std::sph_legendre(l, m, theta) = Y_lm(theta, 0), Condon-Shortley phase included.
     const Complex ylm = std::sph_legendre(ul, m, theta) * std::polar(1.0, m * phi);
     y[il + m] = ylm;
-    if (m > 0) y[il - m] = (m % 2 == 1 ? -1.0 : 1.0) * std::conj(ylm);
+    if (m > 0)
+      y[il - m] = (m % 2 == 1 ? -1.0 : 1.0) * std::conj(ylm);
   }
 }
 
-}  // namespace
+} // namespace
 
 QlmVector spherical_harmonics(int l, const Vec<3>& direction) {
   GRANPACK_CHECK(l >= 0, "spherical_harmonics: l = " << l << " < 0");
@@ -45,20 +48,24 @@ QlmVector spherical_harmonics(int l, const Vec<3>& direction) {
 }
 
 double rotational_invariant(std::span<const std::complex<double>> q) {
-  GRANPACK_CHECK(q.size() % 2 == 1, "rotational_invariant: " << q.size()
-                                                             << " coefficients, expected 2l+1");
+  GRANPACK_CHECK(q.size() % 2 == 1,
+                 "rotational_invariant: " << q.size() << " coefficients, expected 2l+1");
   double s = 0.0;
-  for (const auto& c : q) s += std::norm(c);
+  for (const auto& c : q)
+    s += std::norm(c);
   return std::sqrt(4.0 * std::numbers::pi / static_cast<double>(q.size()) * s);
 }
 
 QlmVector LocalBondOrder::normalized() const {
   double s = 0.0;
-  for (const auto& c : q) s += std::norm(c);
+  for (const auto& c : q)
+    s += std::norm(c);
   QlmVector out(q.size(), Complex(0.0, 0.0));
-  if (!(s > 0.0) || !std::isfinite(s)) return out;
+  if (!(s > 0.0) || !std::isfinite(s))
+    return out;
   const double inv = 1.0 / std::sqrt(s);
-  for (std::size_t k = 0; k < q.size(); ++k) out[k] = q[k] * inv;
+  for (std::size_t k = 0; k < q.size(); ++k)
+    out[k] = q[k] * inv;
   return out;
 }
 
@@ -68,14 +75,17 @@ LocalBondOrder local_q(std::span<const Vec<3>> bonds, int l) {
   r.l = l;
   r.n_bonds = static_cast<int>(bonds.size());
   r.q.assign(n_coefficients(l), Complex(0.0, 0.0));
-  if (bonds.empty()) return r;
+  if (bonds.empty())
+    return r;
   QlmVector y(n_coefficients(l));
   for (const auto& b : bonds) {
     fill_spherical_harmonics(l, b, y.data());
-    for (std::size_t k = 0; k < y.size(); ++k) r.q[k] += y[k];
+    for (std::size_t k = 0; k < y.size(); ++k)
+      r.q[k] += y[k];
   }
   const double inv = 1.0 / static_cast<double>(bonds.size());
-  for (auto& c : r.q) c *= inv;
+  for (auto& c : r.q)
+    c *= inv;
   r.Q = rotational_invariant(r.q);
   return r;
 }
@@ -127,7 +137,9 @@ bool is_crystalline_bond(std::span<const std::complex<double>> qbar_i,
 
 // ---------------------------------------------------------------------------------------------
 
-QBarTable::QBarTable(int l) : l_(l) { GRANPACK_CHECK(l >= 0, "QBarTable: l = " << l << " < 0"); }
+QBarTable::QBarTable(int l) : l_(l) {
+  GRANPACK_CHECK(l >= 0, "QBarTable: l = " << l << " < 0");
+}
 
 void QBarTable::insert(GlobalId id, std::span<const std::complex<double>> qbar) {
   const std::size_t n = n_coefficients(l_);
@@ -145,7 +157,8 @@ void QBarTable::insert(GlobalId id, std::span<const std::complex<double>> qbar) 
 
 std::span<const std::complex<double>> QBarTable::find(GlobalId id) const {
   auto it = index_.find(id);
-  if (it == index_.end()) return {};
+  if (it == index_.end())
+    return {};
   const std::size_t n = n_coefficients(l_);
   return std::span<const std::complex<double>>(values_.data() + it->second * n, n);
 }
@@ -162,7 +175,8 @@ std::vector<GlobalId> crystalline_neighbors(const BondNeighborhood& grain, const
                                     << " (the halo must cover d_c)");
     // Smaller id first: both ends of the bond evaluate the very same expression.
     const double c = grain.id < j ? bond_correlation(qi, qj) : bond_correlation(qj, qi);
-    if (c >= threshold) out.push_back(j);
+    if (c >= threshold)
+      out.push_back(j);
   }
   return out;
 }
@@ -171,29 +185,34 @@ std::vector<GlobalId> crystalline_neighbors(const BondNeighborhood& grain, const
 
 GlobalQlSum::GlobalQlSum(int l_) : l(l_), sum_y(n_coefficients(l_ < 0 ? 0 : l_)) {
   GRANPACK_CHECK(l_ >= 0 && l_ % 2 == 0,
-                 "GlobalQlSum: l = " << l_ << "; only even l >= 0 (bonds are met in both "
-                                           "directions, odd l would vanish identically)");
+                 "GlobalQlSum: l = " << l_
+                                     << "; only even l >= 0 (bonds are met in both "
+                                        "directions, odd l would vanish identically)");
 }
 
 void GlobalQlSum::add(const LocalBondOrder& grain) {
   GRANPACK_CHECK(grain.l == l && grain.q.size() == sum_y.size(),
                  "GlobalQlSum::add: l = " << grain.l << ", expected " << l);
   const double nb = static_cast<double>(grain.n_bonds);
-  for (std::size_t k = 0; k < sum_y.size(); ++k) sum_y[k] += grain.q[k] * nb;
+  for (std::size_t k = 0; k < sum_y.size(); ++k)
+    sum_y[k] += grain.q[k] * nb;
   n_bonds += grain.n_bonds;
 }
 
 void GlobalQlSum::merge(const GlobalQlSum& other) {
   GRANPACK_CHECK(other.l == l, "GlobalQlSum::merge: l = " << other.l << ", expected " << l);
-  for (std::size_t k = 0; k < sum_y.size(); ++k) sum_y[k] += other.sum_y[k];
+  for (std::size_t k = 0; k < sum_y.size(); ++k)
+    sum_y[k] += other.sum_y[k];
   n_bonds += other.n_bonds;
 }
 
 double GlobalQlSum::value() const {
-  if (n_bonds == 0) return 0.0;
+  if (n_bonds == 0)
+    return 0.0;
   QlmVector mean(sum_y);
   const double inv = 1.0 / static_cast<double>(n_bonds);
-  for (auto& c : mean) c *= inv;
+  for (auto& c : mean)
+    c *= inv;
   return rotational_invariant(mean);
 }
 
@@ -229,13 +248,17 @@ namespace {
 double ratio(double num, std::int64_t den) {
   return den == 0 ? 0.0 : num / static_cast<double>(den);
 }
-}  // namespace
+} // namespace
 
-double BondOrderTally::z() const { return ratio(static_cast<double>(n_bonds), n_grains); }
+double BondOrderTally::z() const {
+  return ratio(static_cast<double>(n_bonds), n_grains);
+}
 double BondOrderTally::z_cr() const {
   return ratio(static_cast<double>(n_crystalline_bonds), n_grains);
 }
-double BondOrderTally::q6_loc() const { return ratio(sum_q6_loc, n_grains_with_bonds); }
+double BondOrderTally::q6_loc() const {
+  return ratio(sum_q6_loc, n_grains_with_bonds);
+}
 double BondOrderTally::q6_loc_cr() const {
   return ratio(sum_q6_loc_crystalline, n_crystalline_grains);
 }
@@ -289,8 +312,8 @@ CrystallineClusters crystalline_clusters(
   index.reserve(n);
   for (std::size_t k = 0; k < n; ++k) {
     const bool fresh = index.try_emplace(crystalline_grains[k], k).second;
-    GRANPACK_CHECK(fresh, "crystalline_clusters: grain " << crystalline_grains[k]
-                                                         << " listed twice");
+    GRANPACK_CHECK(fresh,
+                   "crystalline_clusters: grain " << crystalline_grains[k] << " listed twice");
   }
   // Union-find with path halving and union by size.
   std::vector<std::size_t> parent(n), size(n, 1);
@@ -304,10 +327,13 @@ CrystallineClusters crystalline_clusters(
   };
   for (const auto& [a, b] : crystalline_bonds_between_them) {
     const auto ia = index.find(a), ib = index.find(b);
-    if (ia == index.end() || ib == index.end()) continue;  // other end not crystalline
+    if (ia == index.end() || ib == index.end())
+      continue; // other end not crystalline
     std::size_t ra = find(ia->second), rb = find(ib->second);
-    if (ra == rb) continue;
-    if (size[ra] < size[rb]) std::swap(ra, rb);
+    if (ra == rb)
+      continue;
+    if (size[ra] < size[rb])
+      std::swap(ra, rb);
     parent[rb] = ra;
     size[ra] += size[rb];
   }
@@ -323,7 +349,8 @@ CrystallineClusters crystalline_clusters(
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t r = find(k);
     auto [it, fresh] = component_of_root.try_emplace(r, comps.size());
-    if (fresh) comps.push_back({0, crystalline_grains[k]});
+    if (fresh)
+      comps.push_back({0, crystalline_grains[k]});
     Component& c = comps[it->second];
     ++c.size;
     c.min_id = std::min(c.min_id, crystalline_grains[k]);
@@ -332,7 +359,8 @@ CrystallineClusters crystalline_clusters(
   std::vector<std::size_t> rank(comps.size());
   std::iota(rank.begin(), rank.end(), std::size_t{0});
   std::sort(rank.begin(), rank.end(), [&](std::size_t a, std::size_t b) {
-    if (comps[a].size != comps[b].size) return comps[a].size > comps[b].size;
+    if (comps[a].size != comps[b].size)
+      return comps[a].size > comps[b].size;
     return comps[a].min_id < comps[b].min_id;
   });
   std::vector<std::size_t> label(comps.size());
@@ -343,7 +371,8 @@ CrystallineClusters crystalline_clusters(
     out.sizes.push_back(comps[rank[k]].size);
   }
   out.cluster_of.resize(n);
-  for (std::size_t k = 0; k < n; ++k) out.cluster_of[k] = label[comp_of[k]];
+  for (std::size_t k = 0; k < n; ++k)
+    out.cluster_of[k] = label[comp_of[k]];
   std::int64_t s1 = 0, s2 = 0;
   for (const auto s : out.sizes) {
     s1 += s;
@@ -357,9 +386,12 @@ CrystallineClusters crystalline_clusters(
 
 std::string_view to_string(LocalOrder kind) {
   switch (kind) {
-  case LocalOrder::disordered: return "dis";
-  case LocalOrder::fcc: return "fcc";
-  case LocalOrder::hcp: return "hcp";
+  case LocalOrder::disordered:
+    return "dis";
+  case LocalOrder::fcc:
+    return "fcc";
+  case LocalOrder::hcp:
+    return "hcp";
   }
   return "?";
 }
@@ -390,9 +422,11 @@ constexpr OrderWindow kWindows[] = {
     {LO::disordered, 0.16, 0.38, 0.05, AS::B, 1.3, "[AR] table VIII, Aste B (Phi 0.596), d_c 1.3a"},
     {LO::disordered, 0.14, 0.35, 0.05, AS::B, 1.4, "[AR] table VIII, Aste B (Phi 0.596), d_c 1.4a"},
 };
-}  // namespace
+} // namespace
 
-std::span<const OrderWindow> order_windows() { return kWindows; }
+std::span<const OrderWindow> order_windows() {
+  return kWindows;
+}
 
 std::vector<OrderWindow> windows_for(AsteSample sample, double d_c_over_a) {
   std::vector<OrderWindow> out;
@@ -405,23 +439,29 @@ std::vector<OrderWindow> windows_for(AsteSample sample, double d_c_over_a) {
                      std::to_string(d_c_over_a) +
                      " a (tabulated: 1.1, 1.2, 1.3, 1.4 a, samples F, D, B)");
   for (const auto& w : kWindows)
-    if (w.kind != LocalOrder::disordered) out.push_back(w);
+    if (w.kind != LocalOrder::disordered)
+      out.push_back(w);
   return out;
 }
 
 AsteSample aste_sample_compared_with(std::string_view ar_state) {
-  if (ar_state == "A" || ar_state == "A'" || ar_state == "C") return AsteSample::F;
-  if (ar_state == "B") return AsteSample::D;
-  if (ar_state == "D") return AsteSample::B;
+  if (ar_state == "A" || ar_state == "A'" || ar_state == "C")
+    return AsteSample::F;
+  if (ar_state == "B")
+    return AsteSample::D;
+  if (ar_state == "D")
+    return AsteSample::B;
   throw InputError("bond order windows: [AR] compares only states A, A', B, C, D with "
-                   "Aste et al. (got '" + std::string(ar_state) + "')");
+                   "Aste et al. (got '" +
+                   std::string(ar_state) + "')");
 }
 
 std::vector<std::size_t> windows_containing(double Q4, double Q6,
                                             std::span<const OrderWindow> windows) {
   std::vector<std::size_t> out;
   for (std::size_t k = 0; k < windows.size(); ++k)
-    if (windows[k].contains(Q4, Q6)) out.push_back(k);
+    if (windows[k].contains(Q4, Q6))
+      out.push_back(k);
   return out;
 }
 
@@ -457,9 +497,8 @@ std::vector<BondNeighborhood> periodic_neighborhoods(const std::vector<Vec<3>>& 
                static_cast<std::size_t>(nb[2]) +
            static_cast<std::size_t>(z);
   };
-  const std::size_t n_bins =
-      static_cast<std::size_t>(nb[0]) * static_cast<std::size_t>(nb[1]) *
-      static_cast<std::size_t>(nb[2]);
+  const std::size_t n_bins = static_cast<std::size_t>(nb[0]) * static_cast<std::size_t>(nb[1]) *
+                             static_cast<std::size_t>(nb[2]);
   std::vector<std::vector<std::size_t>> bins(n_bins);
   for (std::size_t i = 0; i < n; ++i)
     bins[flat(bin_coord(s[i], 0), bin_coord(s[i], 1), bin_coord(s[i], 2))].push_back(i);
@@ -476,15 +515,17 @@ std::vector<BondNeighborhood> periodic_neighborhoods(const std::vector<Vec<3>>& 
         for (int dz = -1; dz <= 1; ++dz)
           near_bins.push_back(flat((cx + dx + nb[0]) % nb[0], (cy + dy + nb[1]) % nb[1],
                                    (cz + dz + nb[2]) % nb[2]));
-    std::sort(near_bins.begin(), near_bins.end());  // fewer than 3 bins on an axis: duplicates
+    std::sort(near_bins.begin(), near_bins.end()); // fewer than 3 bins on an axis: duplicates
     near_bins.erase(std::unique(near_bins.begin(), near_bins.end()), near_bins.end());
     cand.clear();
-    for (const auto b : near_bins) cand.insert(cand.end(), bins[b].begin(), bins[b].end());
+    for (const auto b : near_bins)
+      cand.insert(cand.end(), bins[b].begin(), bins[b].end());
     std::sort(cand.begin(), cand.end());
     BondNeighborhood& g = out[i];
     g.id = static_cast<GlobalId>(i);
     for (const auto j : cand) {
-      if (j == i) continue;
+      if (j == i)
+        continue;
       const Vec<3> r = cell.min_image(s[i], s[j]);
       if (r.squaredNorm() < dc2) {
         g.bonds.push_back(r);
@@ -522,13 +563,15 @@ BondOrderResult bond_order_periodic(const std::vector<Vec<3>>& real_positions,
     g.n_crystalline_bonds = static_cast<int>(cn.size());
     g.crystalline = g.n_crystalline_bonds >= params.min_crystalline_bonds;
     res.tally.add(q6[i], g.n_crystalline_bonds, params.min_crystalline_bonds);
-    if (!g.crystalline) continue;
+    if (!g.crystalline)
+      continue;
     cryst.push_back(g.id);
     for (const GlobalId j : cn)
-      if (g.id < j) cryst_bonds.emplace_back(g.id, j);
+      if (g.id < j)
+        cryst_bonds.emplace_back(g.id, j);
   }
   res.clusters = crystalline_clusters(cryst, cryst_bonds);
   return res;
 }
 
-}  // namespace granpack
+} // namespace granpack

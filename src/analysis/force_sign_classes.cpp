@@ -24,4 +24,4 @@ ForceSignMeans force_sign_means(const ForceSignSums& sums, ForceSign c) {
   return {n, s[1] / n, std::sqrt(s[2] / n), s[3] / n, std::sqrt(s[4] / n)};
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -171,8 +171,8 @@ ForceStatistics finish_force_statistics(const ForceMomentSums& pass1, const Forc
   r.trivalent = split(ForcePopulation::trivalent);
 
   // eq. (22) and its 2D analogue (branch vectors of length a, docs/analysis-statistics.md).
-  r.pressure_eq22 =
-      r.coordination * s.solid_fraction * mean / (std::numbers::pi * grain_section(dim, s.diameter));
+  r.pressure_eq22 = r.coordination * s.solid_fraction * mean /
+                    (std::numbers::pi * grain_section(dim, s.diameter));
   r.eq22_ratio = r.pressure_eq22 / s.pressure;
 
   // eq. (26): sum N h / Omega = P DeltaPhi / Phi.

@@ -14,7 +14,7 @@ namespace {
 
 /// Union-find whose elements carry their periodic image offset relative to their root.
 template <int dim> class OffsetUnionFind {
- public:
+public:
   using Offset = Eigen::Matrix<long, dim, 1>;
   explicit OffsetUnionFind(std::int64_t n) : parent_(n), offset_(n, Offset::Zero()), rank_(n, 0) {
     std::iota(parent_.begin(), parent_.end(), 0);
@@ -46,7 +46,7 @@ template <int dim> class OffsetUnionFind {
     const std::int64_t ri = find(i, oi), rj = find(j, oj);
     if (ri == rj) {
       root = ri;
-      return oi + shift - oj;  // going round the cycle i -> j -> root -> i
+      return oi + shift - oj; // going round the cycle i -> j -> root -> i
     }
     // Attach the lower-rank root below the other: x_rj's image = x_ri + oi + shift - oj.
     if (rank_[ri] < rank_[rj]) {
@@ -62,25 +62,28 @@ template <int dim> class OffsetUnionFind {
     return Offset::Zero();
   }
 
- private:
+private:
   std::vector<std::int64_t> parent_;
   std::vector<Offset> offset_;
   std::vector<int> rank_;
 };
 
 template <int dim> int span_rank(const std::vector<Eigen::Matrix<long, dim, 1>>& v) {
-  if (v.empty()) return 0;
+  if (v.empty())
+    return 0;
   Eigen::MatrixXd m(dim, v.size());
-  for (std::size_t k = 0; k < v.size(); ++k) m.col(k) = v[k].template cast<double>();
+  for (std::size_t k = 0; k < v.size(); ++k)
+    m.col(k) = v[k].template cast<double>();
   return static_cast<int>(Eigen::FullPivLU<Eigen::MatrixXd>(m).rank());
 }
 
-}  // namespace
+} // namespace
 
 template <int dim>
 PercolationResult percolation_threshold(std::vector<PercolationEdge<dim>> edges, std::int64_t n) {
   std::sort(edges.begin(), edges.end(), [](const auto& a, const auto& b) {
-    if (a.force != b.force) return a.force > b.force;
+    if (a.force != b.force)
+      return a.force > b.force;
     return a.i != b.i ? a.i < b.i : a.j < b.j;
   });
   OffsetUnionFind<dim> uf(n);
@@ -93,12 +96,13 @@ PercolationResult percolation_threshold(std::vector<PercolationEdge<dim>> edges,
     GRANPACK_CHECK(e.i >= 0 && e.i < n && e.j >= 0 && e.j < n,
                    "percolation_threshold: grain index out of range");
     typename OffsetUnionFind<dim>::Offset s;
-    for (int a = 0; a < dim; ++a) s[a] = e.shift[a];
+    for (int a = 0; a < dim; ++a)
+      s[a] = e.shift[a];
     typename OffsetUnionFind<dim>::Offset oi, oj;
     const std::int64_t ri = uf.find(e.i, oi), rj = uf.find(e.j, oj);
     std::int64_t root = 0;
     const auto w = uf.join(e.i, e.j, s, root);
-    if (ri != rj) {  // merge the wrap lists into the new root's
+    if (ri != rj) { // merge the wrap lists into the new root's
       const std::int64_t other = root == ri ? rj : ri;
       auto& into = wraps[root];
       into.insert(into.end(), wraps[other].begin(), wraps[other].end());
@@ -107,7 +111,8 @@ PercolationResult percolation_threshold(std::vector<PercolationEdge<dim>> edges,
     } else if (!w.isZero()) {
       wraps[root].push_back(w);
     }
-    if (wraps[root].empty()) continue;
+    if (wraps[root].empty())
+      continue;
     if (!any) {
       any = true;
       res.threshold_any = e.force;
@@ -122,7 +127,8 @@ PercolationResult percolation_threshold(std::vector<PercolationEdge<dim>> edges,
       std::vector<Eigen::Matrix<long, dim, 1>> basis;
       for (const auto& v : wraps[root]) {
         basis.push_back(v);
-        if (span_rank<dim>(basis) < static_cast<int>(basis.size())) basis.pop_back();
+        if (span_rank<dim>(basis) < static_cast<int>(basis.size()))
+          basis.pop_back();
       }
       wraps[root] = basis;
     }
@@ -149,13 +155,15 @@ std::vector<double> Histogram::pdf() const {
   const double t = total(), w = (hi - lo) / double(counts.size());
   std::vector<double> p(counts.size(), 0.0);
   if (t > 0)
-    for (std::size_t k = 0; k < p.size(); ++k) p[k] = counts[k] / (t * w);
+    for (std::size_t k = 0; k < p.size(); ++k)
+      p[k] = counts[k] / (t * w);
   return p;
 }
 
 std::vector<double> Histogram::edges() const {
   std::vector<double> e(counts.size() + 1);
-  for (std::size_t k = 0; k < e.size(); ++k) e[k] = lo + (hi - lo) * double(k) / double(counts.size());
+  for (std::size_t k = 0; k < e.size(); ++k)
+    e[k] = lo + (hi - lo) * double(k) / double(counts.size());
   return e;
 }
 
@@ -168,4 +176,4 @@ double rumpf_mean_force(double pressure, double z, double phi, double mean_d,
 template PercolationResult percolation_threshold<2>(std::vector<PercolationEdge<2>>, std::int64_t);
 template PercolationResult percolation_threshold<3>(std::vector<PercolationEdge<3>>, std::int64_t);
 
-}  // namespace granpack
+} // namespace granpack

@@ -36,23 +36,25 @@ template <int dim> Eigen::Matrix<double, rot_dim<dim>, dim> cross_with(const Vec
     // a x t = -t x a
     y << 0, t[2], -t[1], -t[2], 0, t[0], t[1], -t[0], 0;
   } else {
-    y << t[1], -t[0];  // (a x t)_z = a_x t_y - a_y t_x
+    y << t[1], -t[0]; // (a x t)_z = a_x t_y - a_y t_x
   }
   return y;
 }
 
 /// W: the real relative displacement w = u_j - u_i (= ũ_j - ũ_i - eps r_ij) of the centres.
-template <int dim> DynMatrix centre_motion_map(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+template <int dim>
+DynMatrix centre_motion_map(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
   const Offsets<dim> o(l);
   const Vec<dim> r = c.geometry.distance * c.geometry.normal;
   DynMatrix w = DynMatrix::Zero(dim, l.local_size());
   w.block(0, o.ui, dim, dim) = -Tensor<dim>::Identity();
   w.block(0, o.uj, dim, dim) = Tensor<dim>::Identity();
-  for (int a = 0; a < dim; ++a) w(a, o.e + a) = -r[a] / l.cell[a];
+  for (int a = 0; a < dim; ++a)
+    w(a, o.e + a) = -r[a] / l.cell[a];
   return w;
 }
 
-}  // namespace
+} // namespace
 
 template <int dim>
 DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
@@ -66,7 +68,8 @@ DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const Rigidit
     d.block(0, o.rj, dim, rot_dim<dim>) = -spin_matrix<dim>(g.branch_j()) / l.ell;
   }
   const Vec<dim> r = g.distance * g.normal;
-  for (int a = 0; a < dim; ++a) d(a, o.e + a) = r[a] / l.cell[a];
+  for (int a = 0; a < dim; ++a)
+    d(a, o.e + a) = r[a] / l.cell[a];
   return d;
 }
 
@@ -77,50 +80,63 @@ template <int dim> void check_rolling_layout(const RigidityLayout<dim>& l) {
   GRANPACK_CHECK(!l.rolling || (dim == 2 && l.rotations),
                  "rigidity: rolling-resistance rows are implemented in 2D with friction only");
 }
-}  // namespace
+} // namespace
 
-template <int dim> DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+template <int dim>
+DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
   check_rolling_layout(l);
   const DynMatrix d = relative_displacement_map(c, l);
-  if (!l.rotations || c.distant) return c.geometry.normal.transpose() * d;
-  if (!l.rolling) return d;
+  if (!l.rotations || c.distant)
+    return c.geometry.normal.transpose() * d;
+  if (!l.rolling)
+    return d;
   const Offsets<dim> o(l);
   DynMatrix rows = DynMatrix::Zero(dim + 1, l.local_size());
   rows.topRows(dim) = d;
-  rows(dim, o.ri) = 1.0;  // ρ_i - ρ_j = ell (θ_i - θ_j): the rotation of i relative to j
+  rows(dim, o.ri) = 1.0; // ρ_i - ρ_j = ell (θ_i - θ_j): the rotation of i relative to j
   rows(dim, o.rj) = -1.0;
   return rows;
 }
 
-template <int dim> DynVector contact_force_vector(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
-  if (!l.rotations || c.distant) return DynVector::Constant(1, c.normal_force);
+template <int dim>
+DynVector contact_force_vector(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  if (!l.rotations || c.distant)
+    return DynVector::Constant(1, c.normal_force);
   DynVector f = DynVector::Zero(l.rows_per_contact());
   f.head(dim) = c.normal_force * c.geometry.normal + c.tangential_force;
-  if (l.rolling) f[dim] = c.rolling_moment[0] / l.ell;
+  if (l.rolling)
+    f[dim] = c.rolling_moment[0] / l.ell;
   return f;
 }
 
-template <int dim> DynMatrix contact_stiffness(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
-  if (!l.rotations || c.distant) return DynMatrix::Constant(1, 1, c.stiffness.k_n);
+template <int dim>
+DynMatrix contact_stiffness(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+  if (!l.rotations || c.distant)
+    return DynMatrix::Constant(1, 1, c.stiffness.k_n);
   const Vec<dim>& n = c.geometry.normal;
   const Tensor<dim> nn = n * n.transpose();
   DynMatrix k = DynMatrix::Zero(l.rows_per_contact(), l.rows_per_contact());
-  k.topLeftCorner(dim, dim) = c.stiffness.k_n * nn + c.stiffness.k_t * (Tensor<dim>::Identity() - nn);
+  k.topLeftCorner(dim, dim) =
+      c.stiffness.k_n * nn + c.stiffness.k_t * (Tensor<dim>::Identity() - nn);
   // Γ^r = -K_r δθ with δθ = θ_j - θ_i: d(Γ^r/ell)/d(ρ_i - ρ_j) = K_r / ell².
-  if (l.rolling) k(dim, dim) = c.stiffness.k_r / (l.ell * l.ell);
+  if (l.rolling)
+    k(dim, dim) = c.stiffness.k_r / (l.ell * l.ell);
   return k;
 }
 
-template <int dim> DynMatrix constitutive_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+template <int dim>
+DynMatrix constitutive_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
   const DynMatrix g = rigidity_rows(c, l);
   return g.transpose() * contact_stiffness(c, l) * g;
 }
 
-template <int dim> DynVector contact_loads(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+template <int dim>
+DynVector contact_loads(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
   return rigidity_rows(c, l).transpose() * contact_force_vector(c, l);
 }
 
-template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
+template <int dim>
+DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
   const Offsets<dim> o(l);
   const auto& g = c.geometry;
   const int m = l.local_size();
@@ -129,8 +145,8 @@ template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, cons
   const Vec<dim> t = l.rotations && !c.distant ? c.tangential_force : Vec<dim>::Zero();
   const Vec<dim> force = nf * n + t;
   const Tensor<dim> proj = Tensor<dim>::Identity() - n * n.transpose();
-  const DynMatrix w = centre_motion_map(c, l);  // w = u_j - u_i
-  const DynMatrix dn = proj * w / r;            // Δn, eq. (B2)
+  const DynMatrix w = centre_motion_map(c, l); // w = u_j - u_i
+  const DynMatrix dn = proj * w / r;           // Δn, eq. (B2)
 
   // Pivoting rate s = n.(θ_i + θ_j) (eq. B5; 3D only: in 2D pivoting does not exist).
   DynMatrix s = DynMatrix::Zero(1, m);
@@ -144,7 +160,8 @@ template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, cons
 
   // ΔF = N Δn - n (T.Δn) + ½ s (n x T): eqs. (B1), (B3)-(B5) at fixed contact-law response.
   DynMatrix d_force = nf * dn - n * (t.transpose() * dn);
-  if constexpr (dim == 3) d_force += 0.5 * Vec<3>(n_x_t) * s;
+  if constexpr (dim == 3)
+    d_force += 0.5 * Vec<3>(n_x_t) * s;
 
   DynMatrix k = DynMatrix::Zero(m, m);
   k.block(o.ui, 0, dim, m) = d_force;
@@ -154,7 +171,8 @@ template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, cons
     // change: Δβ n x T + β Δn x T + β n x ΔF, with Δβ = -Δh/2 = ½ n.w.
     auto moment_change = [&](double beta) {
       DynMatrix dm = 0.5 * n_x_t * (n.transpose() * w) + beta * cross_with<dim>(t) * dn;
-      if constexpr (dim == 3) dm -= 0.5 * beta * t * s;
+      if constexpr (dim == 3)
+        dm -= 0.5 * beta * t * s;
       return DynMatrix(dm / l.ell);
     };
     k.block(o.ri, 0, rot_dim<dim>, m) = moment_change(g.branch_i().norm());
@@ -170,21 +188,22 @@ template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, cons
 Eigen::Matrix<double, 6, 1> divalent_rolling_mode(const Vec<3>& p1, const Vec<3>& p2, double ell) {
   const Vec<3> axis = (p2 - p1).normalized();
   Eigen::Matrix<double, 6, 1> v;
-  v.head<3>() = p1.cross(axis);  // θ x (0 - p1) with θ = axis
+  v.head<3>() = p1.cross(axis); // θ x (0 - p1) with θ = axis
   v.tail<3>() = ell * axis;
   return v.normalized();
 }
 
-#define GRANPACK_INSTANTIATE(d)                                                                  \
-  template DynMatrix relative_displacement_map<d>(const RigidityContact<d>&, const RigidityLayout<d>&); \
-  template DynMatrix rigidity_rows<d>(const RigidityContact<d>&, const RigidityLayout<d>&);     \
+#define GRANPACK_INSTANTIATE(d)                                                                    \
+  template DynMatrix relative_displacement_map<d>(const RigidityContact<d>&,                       \
+                                                  const RigidityLayout<d>&);                       \
+  template DynMatrix rigidity_rows<d>(const RigidityContact<d>&, const RigidityLayout<d>&);        \
   template DynVector contact_force_vector<d>(const RigidityContact<d>&, const RigidityLayout<d>&); \
-  template DynMatrix contact_stiffness<d>(const RigidityContact<d>&, const RigidityLayout<d>&); \
-  template DynMatrix constitutive_block<d>(const RigidityContact<d>&, const RigidityLayout<d>&); \
-  template DynVector contact_loads<d>(const RigidityContact<d>&, const RigidityLayout<d>&);     \
+  template DynMatrix contact_stiffness<d>(const RigidityContact<d>&, const RigidityLayout<d>&);    \
+  template DynMatrix constitutive_block<d>(const RigidityContact<d>&, const RigidityLayout<d>&);   \
+  template DynVector contact_loads<d>(const RigidityContact<d>&, const RigidityLayout<d>&);        \
   template DynMatrix geometric_block<d>(const RigidityContact<d>&, const RigidityLayout<d>&);
 GRANPACK_INSTANTIATE(2)
 GRANPACK_INSTANTIATE(3)
 #undef GRANPACK_INSTANTIATE
 
-}  // namespace granpack
+} // namespace granpack

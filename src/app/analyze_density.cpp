@@ -20,19 +20,24 @@ namespace {
 nlohmann::json fit_json(const FractalFit& f, double a, double l_cell) {
   auto num = [&](double x) { return f.determined ? nlohmann::json(x) : nlohmann::json(nullptr); };
   const std::string failure = fractal_regime_failure(f, a, l_cell);
-  // Phi l^(2-d_F) has the dimension of a length to the power 2 - d_F: in units of a, Phi (l/a)^(2-d_F).
-  return {{"d_F", num(f.d_f)}, {"d_F_error", num(f.d_f_error)}, {"xi_over_a", num(f.xi / a)},
+  // Phi l^(2-d_F) has the dimension of a length to the power 2 - d_F: in units of a, Phi
+  // (l/a)^(2-d_F).
+  return {{"d_F", num(f.d_f)},
+          {"d_F_error", num(f.d_f_error)},
+          {"xi_over_a", num(f.xi / a)},
           {"xi_error_over_a", num(f.xi_error / a)},
           {"amplitude_over_a_pow_2_minus_dF", num(f.amplitude / std::pow(a, 2 - f.d_f))},
-          {"l_over_a", num(f.length_l / a)}, {"rms_log_residual", f.rms_log_residual},
+          {"l_over_a", num(f.length_l / a)},
+          {"rms_log_residual", f.rms_log_residual},
           {"points", f.points},
-          {"converged", f.converged}, {"determined", f.determined},
+          {"converged", f.converged},
+          {"determined", f.determined},
           {"reason", f.determined ? nlohmann::json(nullptr) : nlohmann::json(f.reason)},
           {"fractal_regime", failure.empty()},
           {"regime_failure", failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(failure)}};
 }
 
-}  // namespace
+} // namespace
 
 nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o) {
   const auto grains = gather_particles(v.particles(), v.world);
@@ -44,50 +49,64 @@ nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o)
     double spacing = o.spacing * a;
     // Keep the mesh within max_nodes (the FFT needs about 24 bytes per node).
     const double nodes = L[0] * L[1] / (spacing * spacing);
-    if (nodes > o.max_nodes) spacing *= std::sqrt(nodes / o.max_nodes);
+    if (nodes > o.max_nodes)
+      spacing *= std::sqrt(nodes / o.max_nodes);
     const int nx = int(std::ceil(L[0] / spacing)), ny = int(std::ceil(L[1] / spacing));
     std::vector<Disk> disks;
-    for (const auto& g : grains) disks.push_back({v.system.cell.to_real(g.position), g.radius});
+    for (const auto& g : grains)
+      disks.push_back({v.system.cell.to_real(g.position), g.radius});
     const auto chi = rasterize_disks(disks, L, nx, ny);
     const double k_max = 2 * std::numbers::pi / (o.k_max_wavelength * a);
     const double l_cell = std::min(L[0], L[1]);
-    const DensitySpectra sp = density_spectra(chi, L, nx, ny, 2 * std::numbers::pi / (4 * spacing), o.bins,
-                                              0.5 * l_cell, o.r_bin * a);
+    const DensitySpectra sp = density_spectra(chi, L, nx, ny, 2 * std::numbers::pi / (4 * spacing),
+                                              o.bins, 0.5 * l_cell, o.r_bin * a);
     const ScatteringCurve& c = sp.scattering;
     const double k_lo = 2 * std::numbers::pi / std::max(L[0], L[1]);
     // A xi beyond the cell is no cut-off the sample can show: undetermined.
     const double xi_max = std::max(L[0], L[1]);
     const FractalFit f = fit_fractal_blob(c, k_lo, k_max, v.phi, xi_max);
-    const FractalFit fr = fit_fractal_real_space(sp.correlation, o.r_min * a, 0.5 * l_cell, v.phi, xi_max);
+    const FractalFit fr =
+        fit_fractal_real_space(sp.correlation, o.r_min * a, 0.5 * l_cell, v.phi, xi_max);
     const HoleStatistics h = hole_statistics(chi, L, nx, ny);
     double solid = 0;
-    for (auto x : chi) solid += x;
+    for (auto x : chi)
+      solid += x;
     std::vector<double> k_a(c.k.size()), I_a(c.k.size()), e_a(c.k.size());
     for (std::size_t b = 0; b < c.k.size(); ++b)
       k_a[b] = c.k[b] * a, I_a[b] = c.I[b] / (a * a), e_a[b] = c.I_error[b] / (a * a);
     std::vector<double> r_a(sp.correlation.r.size());
-    for (std::size_t b = 0; b < r_a.size(); ++b) r_a[b] = sp.correlation.r[b] / a;
+    for (std::size_t b = 0; b < r_a.size(); ++b)
+      r_a[b] = sp.correlation.r[b] / a;
     std::vector<double> radii_a(h.radii.size());
-    for (std::size_t k = 0; k < h.radii.size(); ++k) radii_a[k] = h.radii[k] / a;
+    for (std::size_t k = 0; k < h.radii.size(); ++k)
+      radii_a[k] = h.radii[k] / a;
     nlohmann::json j;
-    j["mesh"] = {{"nx", nx}, {"ny", ny}, {"spacing_over_a", L[0] / nx / a},
+    j["mesh"] = {{"nx", nx},
+                 {"ny", ny},
+                 {"spacing_over_a", L[0] / nx / a},
                  {"phi_of_mesh", solid / double(chi.size())}};
-    j["I_k"] = {{"k_times_a", k_a}, {"I_over_a2", I_a}, {"I_error_over_a2", e_a}, {"count", c.count}};
-    j["C_r"] = {{"r_over_a", r_a}, {"C_minus_phi2", sp.correlation.C}, {"count", sp.correlation.count}};
+    j["I_k"] = {
+        {"k_times_a", k_a}, {"I_over_a2", I_a}, {"I_error_over_a2", e_a}, {"count", c.count}};
+    j["C_r"] = {
+        {"r_over_a", r_a}, {"C_minus_phi2", sp.correlation.C}, {"count", sp.correlation.count}};
     j["fit_eq28"] = fit_json(f, a, l_cell);
-    j["fit_eq28"]["constant_over_a2"] = f.determined ? nlohmann::json(f.constant / (a * a)) : nlohmann::json(nullptr);
+    j["fit_eq28"]["constant_over_a2"] =
+        f.determined ? nlohmann::json(f.constant / (a * a)) : nlohmann::json(nullptr);
     j["fit_eq28"]["k_range_times_a"] = {k_lo * a, k_max * a};
     j["fit_eq28"]["k_used_times_a"] = {f.lo * a, f.hi * a};
     j["fit_eq27_real_space"] = fit_json(fr, a, l_cell);
     j["fit_eq27_real_space"]["r_range_over_a"] = {o.r_min, 0.5 * l_cell / a};
     j["fit_eq27_real_space"]["r_used_over_a"] = {fr.lo / a, fr.hi / a};
-    j["holes"] = {{"count", h.holes}, {"wrapping", h.wrapping_holes},
-                  {"R_w_over_a", h.weighted_mean_radius / a}, {"largest_R_over_a", h.largest_radius / a},
-                  {"radii_over_a", radii_a}, {"nodes", h.nodes}};
+    j["holes"] = {{"count", h.holes},
+                  {"wrapping", h.wrapping_holes},
+                  {"R_w_over_a", h.weighted_mean_radius / a},
+                  {"largest_R_over_a", h.largest_radius / a},
+                  {"radii_over_a", radii_a},
+                  {"nodes", h.nodes}};
     text = j.dump();
   }
   broadcast_string(v.world, text);
   return nlohmann::json::parse(text);
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -18,25 +18,31 @@ template <int dim> nlohmann::json analyze_motifs(const PackingView<dim>& v) {
   MotifGraph g;
   g.id = p.id;
   g.owned.assign(p.size(), 0);
-  for (std::size_t i = 0; i < p.n_owned(); ++i) g.owned[i] = 1;
+  for (std::size_t i = 0; i < p.n_owned(); ++i)
+    g.owned[i] = 1;
   // Every local pair in contact: sweep owned and ghost grains alike (a cell list over all).
   CellGrid<dim> grid;
   double rmax = 0;
-  for (double r : p.radius) rmax = std::max(rmax, r);
+  for (double r : p.radius)
+    rmax = std::max(rmax, r);
   grid.build(p, v.system.cell, 2 * rmax * (1 + 1e-9));
   std::int64_t owned_edges = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (v.rattler(i)) continue;
+    if (v.rattler(i))
+      continue;
     const Vec<dim> ri = v.system.cell.to_real(p.position[i]);
     grid.for_each_neighbor_cell(grid.cell_of_particle(i), [&](std::size_t c) {
       for (std::size_t k = grid.cell_start(c); k < grid.cell_start(c + 1); ++k) {
         const std::size_t j = grid.order()[k];
-        if (j <= i || p.id[j] == p.id[i] || v.rattler(j)) continue;
+        if (j <= i || p.id[j] == p.id[i] || v.rattler(j))
+          continue;
         const double dist = (grid.sorted_position(k) - ri).norm();
         const double h = p.radius[i] + p.radius[j] - dist;
-        if (h <= 0) continue;
+        if (h <= 0)
+          continue;
         const double r_eff = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-        if (normal_response(law.normal, h, r_eff).force <= v.force_threshold) continue;
+        if (normal_response(law.normal, h, r_eff).force <= v.force_threshold)
+          continue;
         g.edges.emplace_back(i, j);
         // Edges counted once globally: at the owner of the smaller id (the contact owner).
         const std::size_t first = p.id[i] < p.id[j] ? i : j;
@@ -66,4 +72,4 @@ template <int dim> nlohmann::json analyze_motifs(const PackingView<dim>& v) {
 template nlohmann::json analyze_motifs<2>(const PackingView<2>&);
 template nlohmann::json analyze_motifs<3>(const PackingView<3>&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -16,19 +16,25 @@ nlohmann::json fractions(std::vector<double> hist, double n, MPI_Comm world) {
   global_sum_in_place(world, hist);
   nlohmann::json xi = nlohmann::json::object();
   for (std::size_t k = 0; k < hist.size(); ++k)
-    if (hist[k] > 0) xi[std::to_string(k)] = n > 0 ? hist[k] / n : 0.0;
+    if (hist[k] > 0)
+      xi[std::to_string(k)] = n > 0 ? hist[k] / n : 0.0;
   return xi;
 }
 
 /// A number, or null when undefined (NaN: e.g. M1 when no contact is above the mean).
-nlohmann::json num(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-
-nlohmann::json split_json(const StrongWeakSplit& s) {
-  return {{"contacts", s.contacts}, {"X1", num(s.strong_fraction)}, {"M1", num(s.strong_mobilization)},
-          {"M2", num(s.weak_mobilization)}, {"N_over_Pa2", num(s.mean_normal_force)}};
+nlohmann::json num(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
 }
 
-}  // namespace
+nlohmann::json split_json(const StrongWeakSplit& s) {
+  return {{"contacts", s.contacts},
+          {"X1", num(s.strong_fraction)},
+          {"M1", num(s.strong_mobilization)},
+          {"M2", num(s.weak_mobilization)},
+          {"N_over_Pa2", num(s.mean_normal_force)}};
+}
+
+} // namespace
 
 template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   const auto& p = v.particles();
@@ -39,11 +45,13 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   // x_i: I, backbone contacts per grain, rattlers as x0; II, every force-carrying contact
   // (after a fix_rattlers stage this is [AR]'s treatment II); III, rattlers removed.
   std::vector<double> h1(max_z, 0.0), h2(max_z, 0.0), h3(max_z, 0.0), all_counts(p.size(), 0.0);
-  for (const auto& c : v.carrying) all_counts[c.i] += 1, all_counts[c.j] += 1;
+  for (const auto& c : v.carrying)
+    all_counts[c.i] += 1, all_counts[c.j] += 1;
   v.halo.reverse_values(all_counts, *v.decomposition);
   std::int64_t divalent = 0;
   for (std::size_t i = 0; i < p.n_owned(); ++i) {
-    const auto zi = std::min<std::size_t>(max_z - 1, std::size_t(std::lround(v.backbone.counts[i])));
+    const auto zi =
+        std::min<std::size_t>(max_z - 1, std::size_t(std::lround(v.backbone.counts[i])));
     h2[std::min<std::size_t>(max_z - 1, std::size_t(std::lround(all_counts[i])))] += 1;
     if (v.rattler(i)) {
       h1[0] += 1;
@@ -68,20 +76,22 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   j["x_i_all_contacts"] = fractions(h2, n, v.world);
   j["x_i_without_rattlers"] = fractions(h3, n - double(m.rattlers), v.world);
   j["x2"] = double(divalent) / n;
-  const Hyperstaticity hs = hyperstaticity<dim>(m.backbone_contacts, m.n - m.rattlers, divalent,
-                                                v.law.friction.mu > 0);
+  const Hyperstaticity hs =
+      hyperstaticity<dim>(m.backbone_contacts, m.n - m.rattlers, divalent, v.law.friction.mu > 0);
   j["H"] = hs.degree;
   j["H_over_Nf"] = hs.per_dof;
 
   // Forces on the backbone contacts, two passes.
   std::vector<ContactForceSample> samples;
   for (const auto& c : v.contacts) {
-    if (c.normal_force <= v.force_threshold || v.rattler(c.i) || v.rattler(c.j)) continue;
+    if (c.normal_force <= v.force_threshold || v.rattler(c.i) || v.rattler(c.j))
+      continue;
     const double dist = c.branch.norm();
     const Vec<dim> normal = c.branch / dist;
     const Vec<dim> t = c.tangential_force - c.tangential_force.dot(normal) * normal;
     samples.push_back({c.normal_force, t.norm(), p.radius[c.i] + p.radius[c.j] - dist,
-                       int(std::lround(v.backbone.counts[c.i])), int(std::lround(v.backbone.counts[c.j]))});
+                       int(std::lround(v.backbone.counts[c.i])),
+                       int(std::lround(v.backbone.counts[c.j]))});
   }
   ForceMomentSums pass1({5.0 / 3.0, 2.0, 3.0});
   pass1.add(samples);
@@ -94,15 +104,18 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
   pass2.add(samples);
   global_sum_in_place(v.world, pass2.sums());
   const auto& mat = v.contact_law;
-  const double e_tilde = mat.normal == NormalLawKind::kHertz && v.deck.sample.distribution == "monodisperse"
-                             ? e_tilde_of(mat.young_modulus, mat.poisson_ratio)
-                             : 0.0;
+  const double e_tilde =
+      mat.normal == NormalLawKind::kHertz && v.deck.sample.distribution == "monodisperse"
+          ? e_tilde_of(mat.young_modulus, mat.poisson_ratio)
+          : 0.0;
   const ForceStatistics fs = finish_force_statistics<dim>(
-      pass1, pass2, PackingScales{v.pressure, v.diameter, v.phi, n, v.system.cell.volume(), e_tilde});
+      pass1, pass2,
+      PackingScales{v.pressure, v.diameter, v.phi, n, v.system.cell.volume(), e_tilde});
   j["mean_normal_force"] = fs.mean_normal_force;
   j["Z_5_3"] = fs.z_5_3;
   nlohmann::json moments = nlohmann::json::object();
-  for (std::size_t k = 0; k < fs.alphas.size(); ++k) moments[std::to_string(fs.alphas[k])] = fs.moments[k];
+  for (std::size_t k = 0; k < fs.alphas.size(); ++k)
+    moments[std::to_string(fs.alphas[k])] = fs.moments[k];
   j["Z_alpha"] = moments;
   j["Z_2"] = fs.moments[1];
   j["P_f"] = {{"f_edges", fs.f_edges}, {"pdf", fs.pdf}, {"fraction_above", fs.fraction_above}};
@@ -132,4 +145,4 @@ template <int dim> nlohmann::json analyze_network(const PackingView<dim>& v) {
 template nlohmann::json analyze_network<2>(const PackingView<2>&);
 template nlohmann::json analyze_network<3>(const PackingView<3>&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -32,10 +32,10 @@
 #include "granpack/contact/derived_constants.h"
 #include "granpack/contact/normal_elasticity.h"
 #include "granpack/core/error.h"
-#include "granpack/io/hdf5_store.h"
-#include "granpack/io/log.h"
 #include "granpack/engine/material_law.h"
 #include "granpack/engine/md_engine.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/io/log.h"
 
 namespace granpack {
 
@@ -61,7 +61,9 @@ std::uint64_t mix(std::uint64_t x) {
   x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
   return x ^ (x >> 31);
 }
-double uniform01(std::uint64_t key) { return (static_cast<double>(mix(key) >> 11) + 0.5) * 0x1.0p-53; }
+double uniform01(std::uint64_t key) {
+  return (static_cast<double>(mix(key) >> 11) + 0.5) * 0x1.0p-53;
+}
 /// Standard normal number k of grain `id` (Box-Muller).
 double gaussian(std::uint64_t seed, GlobalId id, int k) {
   const std::uint64_t base = mix(seed ^ mix(static_cast<std::uint64_t>(id))) + 2 * std::uint64_t(k);
@@ -99,7 +101,8 @@ void write_lammps_data(const std::filesystem::path& path, const std::vector<Part
   std::ofstream f(path);
   GRANPACK_CHECK(f, "bench: cannot write " << path.string());
   char buf[512];
-  f << "LAMMPS data file: granpack bench export (atom_style sphere, SI units; id = granpack id + 1)\n\n";
+  f << "LAMMPS data file: granpack bench export (atom_style sphere, SI units; id = granpack id + "
+       "1)\n\n";
   f << grains.size() << " atoms\n1 atom types\n\n";
   const char* ax[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
@@ -122,7 +125,7 @@ void write_lammps_data(const std::filesystem::path& path, const std::vector<Part
   }
 }
 
-}  // namespace
+} // namespace
 
 std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   const int rank = rank_of(world), ranks = size_of(world);
@@ -135,13 +138,15 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
     throw InputError("bench: " + o.file.string() + " holds a " + std::to_string(meta.dimension) +
                      "D sample; the benchmark is 3D");
   for (int k : o.replicate)
-    if (k < 1) throw InputError("bench: --replicate factors must be >= 1");
+    if (k < 1)
+      throw InputError("bench: --replicate factors must be >= 1");
   Configuration<3> c = read_configuration<3>(world, o.file);
   RunContext<3> ctx;
   ctx.world = world;
   ctx.system.cell = c.cell;
   ctx.system.cell.rate.setZero();
-  for (int a = 0; a < 3; ++a) ctx.system.cell.length[a] *= o.replicate[a];
+  for (int a = 0; a < 3; ++a)
+    ctx.system.cell.length[a] *= o.replicate[a];
   ctx.system.particles = replicate(c.particles, o.replicate);
   c = Configuration<3>{};
   const std::int64_t n = meta.n_particles * o.replicate[0] * o.replicate[1] * o.replicate[2];
@@ -157,8 +162,10 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
 
   // --- 2. material, static forces, typical overlap ---------------------------------------
   double r_max = 0, mass_sum = 0;
-  for (std::size_t i = 0; i < p.n_owned(); ++i) r_max = std::max(r_max, p.radius[i]);
-  for (std::size_t i = 0; i < p.n_owned(); ++i) mass_sum += p.mass[i];
+  for (std::size_t i = 0; i < p.n_owned(); ++i)
+    r_max = std::max(r_max, p.radius[i]);
+  for (std::size_t i = 0; i < p.n_owned(); ++i)
+    mass_sum += p.mass[i];
   r_max = global_max(world, r_max);
   mass_sum = global_sum(world, mass_sum);
   const double a = 2 * r_max;
@@ -175,20 +182,22 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   const ContactLaw<3> law = make_contact_law<3>(ctx.contact_law);
   MdSettings<3> s;
   s.skin = o.skin * a;
-  s.dt = o.time_step_fraction * contact_duration(ctx.contact_law, mat.density, sample, 3, o.pressure);  // provisional
+  s.dt = o.time_step_fraction *
+         contact_duration(ctx.contact_law, mat.density, sample, 3, o.pressure); // provisional
 
   double static_pressure = 0, mean_force = 0;
   std::int64_t static_contacts = 0;
   {
-    MdEngine<3> engine(ctx, law, s);  // forces of the grains at rest: elastic only
+    MdEngine<3> engine(ctx, law, s); // forces of the grains at rest: elastic only
     static_pressure = engine.observables().stress_elastic.trace() / 3;
     static_contacts = engine.observables().contacts;
     double sum = 0;
     std::int64_t count = 0;
-    engine.for_each_contact([&](std::size_t, std::size_t, const Vec<3>&, const ContactState<3>& st) {
-      sum += st.normal_force;
-      ++count;
-    });
+    engine.for_each_contact(
+        [&](std::size_t, std::size_t, const Vec<3>&, const ContactState<3>& st) {
+          sum += st.normal_force;
+          ++count;
+        });
     mean_force = global_sum(world, sum) / static_cast<double>(global_sum(world, count));
     if (o.static_forces) {
       std::vector<double> mine;
@@ -197,8 +206,10 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       std::vector<double> all = gather_values(mine, world);
       if (root) {
         std::vector<std::size_t> order(all.size() / 4);
-        for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-        std::sort(order.begin(), order.end(), [&](auto x, auto y) { return all[4 * x] < all[4 * y]; });
+        for (std::size_t k = 0; k < order.size(); ++k)
+          order[k] = k;
+        std::sort(order.begin(), order.end(),
+                  [&](auto x, auto y) { return all[4 * x] < all[4 * y]; });
         std::ofstream f(*o.static_forces);
         char buf[160];
         std::snprintf(buf, sizeof buf, "# pressure %.17g contacts %lld\n# id fx fy fz (N)\n",
@@ -226,10 +237,12 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   ctx.system.contacts.clear();
   p.clear_ghosts();
   for (std::size_t i = 0; i < p.n_owned(); ++i)
-    for (int k = 0; k < 3; ++k) p.velocity[i][k] = o.velocity_rms * gaussian(o.seed, p.id[i], k);
+    for (int k = 0; k < 3; ++k)
+      p.velocity[i][k] = o.velocity_rms * gaussian(o.seed, p.id[i], k);
   if (o.lammps_data) {
     const auto grains = gather_particles(p, world);
-    if (root) write_lammps_data(*o.lammps_data, grains, ctx.system.cell, mat.density);
+    if (root)
+      write_lammps_data(*o.lammps_data, grains, ctx.system.cell, mat.density);
   }
 
   // --- 4. the timed run ------------------------------------------------------------------
@@ -256,7 +269,8 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   // halo exchange, which the breakdown counts as communication).
   const double forces_max = global_max(world, t.forces);
   global_sum_in_place(world, phases);
-  for (double& x : phases) x /= ranks;
+  for (double& x : phases)
+    x /= ranks;
   // The same ratio step by step: every step the ranks meet at the reverse halo exchange, so
   // each waits for that step's slowest force pass. Sum over steps of the slowest rank's time
   // over the mean: above the whole-run ratio when the ranks take turns being slow (jitter of
@@ -264,7 +278,8 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   std::vector<double> step_max(step_forces.size());
   global_max(world, step_forces, step_max);
   double forces_step_max = 0;
-  for (double x : step_max) forces_step_max += x;
+  for (double x : step_max)
+    forces_step_max += x;
   const double rss_peak = peak_resident_bytes();
   const double rss_max = global_max(world, rss_peak);
   const double grown = global_sum(world, std::max(0.0, rss_peak - rss_base));
@@ -296,34 +311,36 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       "per rank\n",
       static_cast<long long>(n), o.file.filename().c_str(), o.replicate[0], o.replicate[1],
       o.replicate[2], ranks, static_cast<long long>(o.steps), static_pressure,
-      static_cast<long long>(static_contacts), 2.0 * double(static_contacts) / double(n), mean_force,
-      h_typ / a, s.dt, o.time_step_fraction, contact_time, s.skin, o.velocity_rms, wall,
+      static_cast<long long>(static_contacts), 2.0 * double(static_contacts) / double(n),
+      mean_force, h_typ / a, s.dt, o.time_step_fraction, contact_time, s.skin, o.velocity_rms, wall,
       wall / double(o.steps), static_cast<long long>(engine.rebuilds() - rebuilds0),
       static_cast<long long>(obs.contacts), pressure_end, pstep, 100 * phases[0] / wall,
       100 * phases[1] / wall, 100 * phases[2] / wall, 100 * phases[3] / wall,
       100 * (wall - phases[0] - phases[1] - phases[2] - phases[3]) / wall,
       phases[0] > 0 ? forces_max / phases[0] : 1.0,
       phases[0] > 0 ? forces_step_max / phases[0] : 1.0, 100 * (forces_step_max - phases[0]) / wall,
-      rss_max / 1048576.0,
-      grown / double(n), ghosts, ghosts_max, owned_max, ghosts_max * 15 * 8 / 1e6);
+      rss_max / 1048576.0, grown / double(n), ghosts, ghosts_max, owned_max,
+      ghosts_max * 15 * 8 / 1e6);
   std::string report = root ? std::string(buf) : std::string();
   if (o.json && root) {
     std::ofstream f(*o.json);
-    std::snprintf(buf, sizeof buf,
-                  "{\"code\": \"granpack\", \"n\": %lld, \"ranks\": %d, \"steps\": %lld, \"dt\": %.17g, "
-                  "\"skin\": %.17g, \"wall\": %.6g, \"particle_steps_per_s_per_rank\": %.6g, "
-                  "\"forces\": %.6g, \"forces_max\": %.6g, \"forces_step_max\": %.6g, \"neighbor\": %.6g, \"comm\": %.6g, \"integrate\": %.6g, "
-                  "\"rebuilds\": %lld, \"static_pressure\": %.17g, \"static_contacts\": %lld, "
-                  "\"rss_max_bytes\": %.6g, \"bytes_per_grain\": %.6g, \"ghosts\": %.0f, "
-                  "\"ghosts_max\": %.0f, \"owned_max\": %.0f}\n",
-                  static_cast<long long>(n), ranks, static_cast<long long>(o.steps), s.dt, s.skin,
-                  wall, pstep, phases[0], forces_max, forces_step_max, phases[1], phases[2], phases[3],
-                  static_cast<long long>(engine.rebuilds() - rebuilds0), static_pressure,
-                  static_cast<long long>(static_contacts), rss_max, grown / double(n), ghosts,
-                  ghosts_max, owned_max);
+    std::snprintf(
+        buf, sizeof buf,
+        "{\"code\": \"granpack\", \"n\": %lld, \"ranks\": %d, \"steps\": %lld, \"dt\": %.17g, "
+        "\"skin\": %.17g, \"wall\": %.6g, \"particle_steps_per_s_per_rank\": %.6g, "
+        "\"forces\": %.6g, \"forces_max\": %.6g, \"forces_step_max\": %.6g, \"neighbor\": %.6g, "
+        "\"comm\": %.6g, \"integrate\": %.6g, "
+        "\"rebuilds\": %lld, \"static_pressure\": %.17g, \"static_contacts\": %lld, "
+        "\"rss_max_bytes\": %.6g, \"bytes_per_grain\": %.6g, \"ghosts\": %.0f, "
+        "\"ghosts_max\": %.0f, \"owned_max\": %.0f}\n",
+        static_cast<long long>(n), ranks, static_cast<long long>(o.steps), s.dt, s.skin, wall,
+        pstep, phases[0], forces_max, forces_step_max, phases[1], phases[2], phases[3],
+        static_cast<long long>(engine.rebuilds() - rebuilds0), static_pressure,
+        static_cast<long long>(static_contacts), rss_max, grown / double(n), ghosts, ghosts_max,
+        owned_max);
     f << buf;
   }
   return report;
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -6,11 +6,11 @@
 #include "granpack/comm/barrier.h"
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
+#include "granpack/comm/communicator.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
-#include "granpack/comm/communicator.h"
-#include "granpack/io/log.h"
 #include "granpack/engine/stop_signals.h"
+#include "granpack/io/log.h"
 
 namespace granpack {
 
@@ -21,11 +21,12 @@ int choose_ranks_per_sample(int size, const EnsembleOptions& o) {
   if (o.samples < 1)
     throw InputError("--samples " + std::to_string(o.samples) + ": must be at least 1");
   int r = o.ranks_per_sample;
-  if (r == 0) r = (o.samples < size && size % o.samples == 0) ? size / o.samples : 1;
+  if (r == 0)
+    r = (o.samples < size && size % o.samples == 0) ? size / o.samples : 1;
   if (r < 1 || size % r != 0)
     throw InputError("--ranks-per-sample " + std::to_string(r) + ": must divide the " +
-                     std::to_string(size) + " MPI ranks of the job (e.g. " +
-                     std::to_string(size) + " ranks: 1 or " + std::to_string(size) + ")");
+                     std::to_string(size) + " MPI ranks of the job (e.g. " + std::to_string(size) +
+                     " ranks: 1 or " + std::to_string(size) + ")");
   return r;
 }
 
@@ -50,7 +51,7 @@ int combine_codes(MPI_Comm world, int code) {
   return error ? error : (stopped ? kExitCheckpointed : kExitOk);
 }
 
-}  // namespace
+} // namespace
 
 std::filesystem::path sample_directory(const std::filesystem::path& out, std::uint64_t seed) {
   return out / ("sample_" + std::to_string(seed));
@@ -64,12 +65,15 @@ int run_ensemble(MPI_Comm world, const EnsembleOptions& o) {
   for (int k = 0; k < o.samples; ++k)
     load_deck_collectively(world, o.run.deck, o.first_seed + static_cast<std::uint64_t>(k));
   std::filesystem::path out = o.run.output_dir;
-  if (out.empty()) out = std::filesystem::path("out") / o.run.deck.stem();
+  if (out.empty())
+    out = std::filesystem::path("out") / o.run.deck.stem();
   collectively(world, [&] {
-    if (rank_of(world) != 0) return;
+    if (rank_of(world) != 0)
+      return;
     std::error_code ec;
     std::filesystem::create_directories(out, ec);
-    if (ec) throw InputError("cannot create the output directory " + out.string() + ": " + ec.message());
+    if (ec)
+      throw InputError("cannot create the output directory " + out.string() + ": " + ec.message());
   });
 
   const int groups = size / per_sample;
@@ -101,29 +105,34 @@ int run_ensemble(MPI_Comm world, const EnsembleOptions& o) {
       say.info("finished earlier (" + (run.output_dir / "report.json").string() + "): skipped");
       continue;
     }
-    if (start == SampleStart::resume) run.restart = run.output_dir / "checkpoint.h5";
+    if (start == SampleStart::resume)
+      run.restart = run.output_dir / "checkpoint.h5";
     try {
       const int c = run_deck(group, run);
-      if (c != kExitOk) code = code == kExitOk ? c : code;
+      if (c != kExitOk)
+        code = code == kExitOk ? c : code;
     } catch (const CheckpointedStop& e) {
       say.info(e.what());
-      if (code == kExitOk) code = e.exit_code();
-      break;  // the job is asked to end: no further sample
+      if (code == kExitOk)
+        code = e.exit_code();
+      break; // the job is asked to end: no further sample
     } catch (const Error& e) {
       // Collective on the group: the other samples go on; the job's exit code says it.
       say.warn("sample " + std::to_string(seed) + " failed: " + std::string(e.what()));
-      if (code == kExitOk || code == kExitCheckpointed) code = e.exit_code();
+      if (code == kExitOk || code == kExitCheckpointed)
+        code = e.exit_code();
     }
   }
   free_communicator(group);
   idle_barrier(world);
   const int job = combine_codes(world, code);
-  log.info("ensemble: " + std::string(job == kExitOk ? "every sample finished"
-                                      : job == kExitCheckpointed
-                                          ? "stopped on a signal; --restart resumes the unfinished samples"
-                                          : "a sample failed (see its log.txt)") +
+  log.info("ensemble: " +
+           std::string(job == kExitOk ? "every sample finished"
+                       : job == kExitCheckpointed
+                           ? "stopped on a signal; --restart resumes the unfinished samples"
+                           : "a sample failed (see its log.txt)") +
            "; `granpack ensemble " + out.string() + "` gathers them");
   return job;
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -21,24 +21,29 @@ namespace {
 
 using json = nlohmann::json;
 
-bool is_number(const json& v) { return v.is_number() && !v.is_boolean(); }
+bool is_number(const json& v) {
+  return v.is_number() && !v.is_boolean();
+}
 
 std::string escape(const std::string& key) {
   std::string out;
-  for (char c : key) out += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+  for (char c : key)
+    out += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
   return out;
 }
 
 /// Leaves of a document by JSON pointer: numbers, and numeric arrays kept whole (curves).
 void flatten(const json& v, const std::string& at, std::map<std::string, json>& out) {
   if (v.is_object()) {
-    for (const auto& [k, x] : v.items()) flatten(x, at + "/" + escape(k), out);
+    for (const auto& [k, x] : v.items())
+      flatten(x, at + "/" + escape(k), out);
   } else if (v.is_array()) {
     const bool curve = !v.empty() && std::all_of(v.begin(), v.end(), is_number);
     if (curve) {
       out[at] = v;
     } else {
-      for (std::size_t i = 0; i < v.size(); ++i) flatten(v[i], at + "/" + std::to_string(i), out);
+      for (std::size_t i = 0; i < v.size(); ++i)
+        flatten(v[i], at + "/" + std::to_string(i), out);
     }
   } else if (is_number(v)) {
     out[at] = v;
@@ -48,13 +53,15 @@ void flatten(const json& v, const std::string& at, std::map<std::string, json>& 
 /// report.json with its list of stages keyed by stage name, which stays meaningful when a
 /// deck gains a stage ("/stages/compress/phi", not "/stages/2/phi").
 json stages_by_name(json report) {
-  if (!report.contains("stages") || !report["stages"].is_array()) return report;
+  if (!report.contains("stages") || !report["stages"].is_array())
+    return report;
   json named = json::object();
   for (std::size_t i = 0; i < report["stages"].size(); ++i) {
     const json& st = report["stages"][i];
     std::string name = st.contains("name") && st["name"].is_string() ? st["name"].get<std::string>()
-                                                                      : std::to_string(i);
-    if (named.contains(name)) name += "#" + std::to_string(i);
+                                                                     : std::to_string(i);
+    if (named.contains(name))
+      name += "#" + std::to_string(i);
     named[name] = st;
   }
   report["stages"] = named;
@@ -63,16 +70,19 @@ json stages_by_name(json report) {
 
 double mean_of(const std::vector<double>& x) {
   double s = 0;
-  for (double v : x) s += v;
+  for (double v : x)
+    s += v;
   return s / static_cast<double>(x.size());
 }
 
 /// Sample standard deviation (K - 1): [AR]'s "sample-to-sample standard deviation".
 json sd_of(const std::vector<double>& x) {
-  if (x.size() < 2) return nullptr;
+  if (x.size() < 2)
+    return nullptr;
   const double m = mean_of(x);
   double s = 0;
-  for (double v : x) s += (v - m) * (v - m);
+  for (double v : x)
+    s += (v - m) * (v - m);
   return std::sqrt(s / static_cast<double>(x.size() - 1));
 }
 
@@ -83,17 +93,21 @@ json statistics(const std::string& key, const std::vector<std::map<std::string, 
     auto it = d.find(key);
     present.push_back(it == d.end() ? nullptr : &it->second);
   }
-  const json* first = *std::find_if(present.begin(), present.end(), [](const json* p) { return p; });
+  const json* first =
+      *std::find_if(present.begin(), present.end(), [](const json* p) { return p; });
   if (first->is_array()) {
     std::vector<const json*> curves;
     for (const json* p : present)
-      if (p) curves.push_back(p);
+      if (p)
+        curves.push_back(p);
     for (const json* c : curves)
-      if (!c->is_array() || c->size() != first->size()) return nullptr;  // lengths differ
+      if (!c->is_array() || c->size() != first->size())
+        return nullptr; // lengths differ
     json mean = json::array(), sd = json::array();
     for (std::size_t i = 0; i < first->size(); ++i) {
       std::vector<double> x;
-      for (const json* c : curves) x.push_back((*c)[i].get<double>());
+      for (const json* c : curves)
+        x.push_back((*c)[i].get<double>());
       mean.push_back(mean_of(x));
       sd.push_back(sd_of(x));
     }
@@ -109,25 +123,29 @@ json statistics(const std::string& key, const std::vector<std::map<std::string, 
       values.push_back(nullptr);
     }
   }
-  if (x.empty()) return nullptr;
+  if (x.empty())
+    return nullptr;
   return {{"mean", mean_of(x)}, {"sd", sd_of(x)}, {"K", x.size()}, {"values", values}};
 }
 
 json statistics_of(const std::vector<std::map<std::string, json>>& docs) {
   std::map<std::string, bool> keys;
   for (const auto& d : docs)
-    for (const auto& kv : d) keys[kv.first] = true;
+    for (const auto& kv : d)
+      keys[kv.first] = true;
   json out = json::object();
   for (const auto& kv : keys) {
     json s = statistics(kv.first, docs);
-    if (!s.is_null()) out[kv.first] = s;
+    if (!s.is_null())
+      out[kv.first] = s;
   }
   return out;
 }
 
 json read_json_file(const std::filesystem::path& path) {
   std::ifstream in(path);
-  if (!in) throw InputError(path.string() + ": cannot open");
+  if (!in)
+    throw InputError(path.string() + ": cannot open");
   try {
     return json::parse(in);
   } catch (const json::parse_error& e) {
@@ -136,7 +154,8 @@ json read_json_file(const std::filesystem::path& path) {
 }
 
 /// The sample directories (sample_<seed>) of an ensemble, by seed.
-std::vector<std::pair<std::uint64_t, std::filesystem::path>> sample_dirs(const std::filesystem::path& out) {
+std::vector<std::pair<std::uint64_t, std::filesystem::path>>
+sample_dirs(const std::filesystem::path& out) {
   static const std::regex name(R"(sample_([0-9]{1,18}))");
   std::vector<std::pair<std::uint64_t, std::filesystem::path>> dirs;
   for (const auto& e : std::filesystem::directory_iterator(out)) {
@@ -159,7 +178,8 @@ std::vector<std::filesystem::path> configurations(const std::filesystem::path& d
     if (p.extension() == ".h5" && stem != "final" && stem != "checkpoint" && stem != "postmortem")
       files.push_back(p);
   }
-  if (files.empty() && std::filesystem::exists(dir / "final.h5")) files.push_back(dir / "final.h5");
+  if (files.empty() && std::filesystem::exists(dir / "final.h5"))
+    files.push_back(dir / "final.h5");
   std::sort(files.begin(), files.end());
   return files;
 }
@@ -174,7 +194,8 @@ std::vector<SampleDocuments> read_samples(const std::filesystem::path& out) {
       for (const auto& e : std::filesystem::directory_iterator(dir)) {
         const std::string f = e.path().filename().string();
         const std::string suffix = ".analysis.json";
-        if (f.size() > suffix.size() && f.compare(f.size() - suffix.size(), suffix.size(), suffix) == 0)
+        if (f.size() > suffix.size() &&
+            f.compare(f.size() - suffix.size(), suffix.size(), suffix) == 0)
           s.analyses.emplace_back(f.substr(0, f.size() - suffix.size()), read_json_file(e.path()));
       }
       std::sort(s.analyses.begin(), s.analyses.end(),
@@ -188,12 +209,14 @@ std::vector<SampleDocuments> read_samples(const std::filesystem::path& out) {
 std::string headline(const json& summary) {
   std::ostringstream os;
   os << "ensemble of " << summary["seeds"].size() << " finished sample(s)";
-  if (!summary["unfinished"].empty()) os << ", " << summary["unfinished"].size() << " unfinished";
+  if (!summary["unfinished"].empty())
+    os << ", " << summary["unfinished"].size() << " unfinished";
   os << "\n";
   for (const auto& [stem, stats] : summary["analysis"].items()) {
     os << "  " << stem << ":";
     for (const char* key : {"/phi", "/z_star", "/x0", "/x2"}) {
-      if (!stats.contains(key)) continue;
+      if (!stats.contains(key))
+        continue;
       const json& s = stats[key];
       char buf[96];
       if (s["sd"].is_null())
@@ -208,7 +231,7 @@ std::string headline(const json& summary) {
   return os.str();
 }
 
-}  // namespace
+} // namespace
 
 json summarize_samples(const std::vector<SampleDocuments>& samples) {
   json summary = {{"format", "granpack-ensemble"}, {"format_version", 1}};
@@ -216,11 +239,14 @@ json summarize_samples(const std::vector<SampleDocuments>& samples) {
   std::vector<std::map<std::string, json>> reports;
   std::map<std::string, std::vector<std::map<std::string, json>>> analyses;
   std::vector<const SampleDocuments*> finished;
-  for (const auto& s : samples) (s.report.is_null() ? unfinished : seeds).push_back(s.seed);
   for (const auto& s : samples)
-    if (!s.report.is_null()) finished.push_back(&s);
+    (s.report.is_null() ? unfinished : seeds).push_back(s.seed);
+  for (const auto& s : samples)
+    if (!s.report.is_null())
+      finished.push_back(&s);
   for (const auto* s : finished)
-    for (const auto& a : s->analyses) analyses[a.first];  // every stem any sample has
+    for (const auto& a : s->analyses)
+      analyses[a.first]; // every stem any sample has
   for (const auto* s : finished) {
     std::map<std::string, json> flat;
     flatten(stages_by_name(s->report), "", flat);
@@ -228,22 +254,27 @@ json summarize_samples(const std::vector<SampleDocuments>& samples) {
     for (auto& [stem, docs] : analyses) {
       std::map<std::string, json> a;
       for (const auto& [name, doc] : s->analyses)
-        if (name == stem) flatten(doc, "", a);
+        if (name == stem)
+          flatten(doc, "", a);
       docs.push_back(std::move(a));
     }
   }
   if (!finished.empty()) {
     const json& r = finished.front()->report;
-    if (r.contains("deck")) summary["deck"] = r["deck"];
-    if (r.contains("n")) summary["n"] = r["n"];
-    if (r.contains("dimension")) summary["dimension"] = r["dimension"];
+    if (r.contains("deck"))
+      summary["deck"] = r["deck"];
+    if (r.contains("n"))
+      summary["n"] = r["n"];
+    if (r.contains("dimension"))
+      summary["dimension"] = r["dimension"];
   }
   summary["seeds"] = seeds;
   summary["K"] = seeds.size();
   summary["unfinished"] = unfinished;
   summary["report"] = statistics_of(reports);
   summary["analysis"] = json::object();
-  for (const auto& [stem, docs] : analyses) summary["analysis"][stem] = statistics_of(docs);
+  for (const auto& [stem, docs] : analyses)
+    summary["analysis"][stem] = statistics_of(docs);
   return summary;
 }
 
@@ -253,20 +284,25 @@ std::string summarize_ensemble(MPI_Comm world, const EnsembleSummaryOptions& opt
   // The files to analyse, listed on rank 0 and broadcast: every rank opens the same ones.
   std::string listing;
   collectively(world, [&] {
-    if (rank != 0) return;
+    if (rank != 0)
+      return;
     if (!std::filesystem::is_directory(out))
       throw InputError(out.string() + ": not a directory (an ensemble's OUT of `run --samples`)");
     const auto dirs = sample_dirs(out);
     if (dirs.empty())
-      throw InputError(out.string() + ": holds no sample_<seed> directory (run it with `granpack run "
-                       "DECK --samples K -o " + out.string() + "`)");
+      throw InputError(out.string() +
+                       ": holds no sample_<seed> directory (run it with `granpack run "
+                       "DECK --samples K -o " +
+                       out.string() + "`)");
     json todo = json::array();
     if (options.analyze)
       for (const auto& [seed, dir] : dirs) {
-        if (!std::filesystem::exists(dir / "report.json")) continue;
+        if (!std::filesystem::exists(dir / "report.json"))
+          continue;
         for (const auto& f : configurations(dir)) {
           const auto target = dir / (f.stem().string() + ".analysis.json");
-          if (!std::filesystem::exists(target)) todo.push_back({f.string(), target.string()});
+          if (!std::filesystem::exists(target))
+            todo.push_back({f.string(), target.string()});
         }
       }
     listing = todo.dump();
@@ -277,12 +313,14 @@ std::string summarize_ensemble(MPI_Comm world, const EnsembleSummaryOptions& opt
     a.file = item[0].get<std::string>();
     a.json = item[1].get<std::string>();
     a.print_table = false;
-    if (rank == 0) std::cout << "analysing " << a.file.string() << " -> " << a.json->string() << std::endl;
+    if (rank == 0)
+      std::cout << "analysing " << a.file.string() << " -> " << a.json->string() << std::endl;
     analyze_file(world, a);
   }
   std::string text;
   collectively(world, [&] {
-    if (rank != 0) return;
+    if (rank != 0)
+      return;
     json summary = summarize_samples(read_samples(out));
     summary["directory"] = out.string();
     write_text_atomically(out / "ensemble.json", summary.dump(1) + "\n");
@@ -291,4 +329,4 @@ std::string summarize_ensemble(MPI_Comm world, const EnsembleSummaryOptions& opt
   return text;
 }
 
-}  // namespace granpack
+} // namespace granpack

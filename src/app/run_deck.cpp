@@ -11,13 +11,13 @@
 #include "granpack/comm/communicator.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
+#include "granpack/engine/checkpoint.h"
+#include "granpack/engine/stop_signals.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/deck_seed.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/io/output_lock.h"
-#include "granpack/engine/checkpoint.h"
 #include "granpack/stages/stages.h"
-#include "granpack/engine/stop_signals.h"
 
 namespace granpack {
 
@@ -38,15 +38,18 @@ Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path,
   }
   ok = broadcast_value(world, ok);
   broadcast_string(world, text);
-  if (!ok) throw InputError(text);  // on every rank, same message
-  if (seed) text = reseeded_deck_text(text, path.string(), *seed);
+  if (!ok)
+    throw InputError(text); // on every rank, same message
+  if (seed)
+    text = reseeded_deck_text(text, path.string(), *seed);
   return parse_deck(text, path.string());
 }
 
 namespace {
 
 std::string fmt_opt(const std::optional<double>& v) {
-  if (!v) return "-";
+  if (!v)
+    return "-";
   std::ostringstream os;
   os.precision(6);
   os << *v;
@@ -60,7 +63,8 @@ std::optional<PhaseSeconds> phase_seconds_over_ranks(MPI_Comm world, const StepT
   std::array max{t.forces, t.forces_cpu};
   global_sum_in_place(world, sum);
   global_max_in_place(world, max);
-  if (sum[0] + sum[1] + sum[2] + sum[3] <= 0) return std::nullopt;
+  if (sum[0] + sum[1] + sum[2] + sum[3] <= 0)
+    return std::nullopt;
   PhaseSeconds p;
   p.forces = sum[0] / size, p.neighbor = sum[1] / size, p.comm = sum[2] / size;
   p.integrate = sum[3] / size, p.forces_cpu = sum[4] / size;
@@ -70,18 +74,19 @@ std::optional<PhaseSeconds> phase_seconds_over_ranks(MPI_Comm world, const StepT
 
 std::string phase_line(const PhaseSeconds& p) {
   char buf[300];
-  std::snprintf(buf, sizeof buf,
-                "  MD phases (s, mean over ranks): forces %.3g, neighbours %.3g, communication %.3g, "
-                "integration %.3g; force work of the slowest rank / mean %.3f",
-                p.forces, p.neighbor, p.comm, p.integrate, p.force_imbalance());
+  std::snprintf(
+      buf, sizeof buf,
+      "  MD phases (s, mean over ranks): forces %.3g, neighbours %.3g, communication %.3g, "
+      "integration %.3g; force work of the slowest rank / mean %.3f",
+      p.forces, p.neighbor, p.comm, p.integrate, p.force_imbalance());
   return buf;
 }
 
 /// Restores the state a checkpoint holds: grains, contacts, cell, time and step, the domain
 /// grid (the same one on the same rank count), the RunContext's contact law and stress target
 /// (its /parameters) and the frames of the stages in progress.
-template <int dim> void restore(RunContext<dim>& ctx, const std::filesystem::path& file,
-                                const RunState& state) {
+template <int dim>
+void restore(RunContext<dim>& ctx, const std::filesystem::path& file, const RunState& state) {
   Configuration<dim> c = read_configuration<dim>(ctx.world, file);
   if (c.meta.parameters) {
     ctx.contact_law = c.meta.parameters->contact_law;
@@ -90,7 +95,8 @@ template <int dim> void restore(RunContext<dim>& ctx, const std::filesystem::pat
     const StateParameters p = legacy_parameters(state, *ctx.deck);
     ctx.contact_law = p.contact_law;
     ctx.stress_target = p.stress_target;
-    ctx.log->info("  " + file.string() + " was written before checkpoints held /parameters: the "
+    ctx.log->info("  " + file.string() +
+                  " was written before checkpoints held /parameters: the "
                   "contact law is the deck's [material] with the changes its run state records");
   } else {
     throw InputError(file.string() + ": a checkpoint of run_state format 2 without the group "
@@ -101,17 +107,18 @@ template <int dim> void restore(RunContext<dim>& ctx, const std::filesystem::pat
   const int size = size_of(ctx.world);
   std::array<int, dim> grid{};
   const bool same_grid = size == state.ranks && state.grid.size() == dim;
-  if (same_grid) std::copy(state.grid.begin(), state.grid.end(), grid.begin());
+  if (same_grid)
+    std::copy(state.grid.begin(), state.grid.end(), grid.begin());
   const std::array<int, dim>* chosen = same_grid ? &grid : nullptr;
   adopt_configuration<dim>(ctx, std::move(c), chosen);
   ctx.resume.assign(state.frames.begin(), state.frames.end());
   ctx.resume_mid_step = state.mid_stage;
 }
 
-template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
-                                   const std::filesystem::path& out, RunReport& report,
-                                   Checkpointer& checkpointer, const RunOptions& options,
-                                   const std::optional<RunState>& state) {
+template <int dim>
+void run_stages(MPI_Comm world, const Deck& deck, Log& log, const std::filesystem::path& out,
+                RunReport& report, Checkpointer& checkpointer, const RunOptions& options,
+                const std::optional<RunState>& state) {
   RunContext<dim> ctx;
   ctx.world = world;
   ctx.deck = &deck;
@@ -147,15 +154,17 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
                    "stage " << st.index << " did not consume the checkpoint's resume state");
     r.name = st.name;
     r.kind = st.kind;
-    if (!r.phi && ctx.decomposition) r.phi = ctx.solid_fraction();
+    if (!r.phi && ctx.decomposition)
+      r.phi = ctx.solid_fraction();
     // set and write leave the packing as it was: its network metrics carry over.
     if ((st.kind == "set" || st.kind == "write") && !report.stages.empty())
       r.copy_state_metrics(report.stages.back());
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     report.stages.push_back(r);
-    if (r.phase_seconds) log.info(phase_line(*r.phase_seconds));
-    log.info("  done: phi " + fmt_opt(r.phi) + ", steps " + std::to_string(r.steps) +
-             ", wall " + fmt_opt(r.wall_seconds) + " s");
+    if (r.phase_seconds)
+      log.info(phase_line(*r.phase_seconds));
+    log.info("  done: phi " + fmt_opt(r.phi) + ", steps " + std::to_string(r.steps) + ", wall " +
+             fmt_opt(r.wall_seconds) + " s");
     // Between stages: a checkpoint (cheap next to a stage), and the place where a stage
     // without checkpoints inside honours a stop signal, as does an event-driven stage for a
     // signal during its last piece.
@@ -171,7 +180,7 @@ template <int dim> void run_stages(MPI_Comm world, const Deck& deck, Log& log,
   log.info("wrote " + (out / "final.h5").string());
 }
 
-}  // namespace
+} // namespace
 
 int run_deck(MPI_Comm world, const RunOptions& options) {
   auto t0 = std::chrono::steady_clock::now();
@@ -208,19 +217,23 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   }
 
   std::filesystem::path out = options.output_dir;
-  if (out.empty()) out = std::filesystem::path("out") / options.deck.stem();
+  if (out.empty())
+    out = std::filesystem::path("out") / options.deck.stem();
   collectively(world, [&] {
     if (rank == 0) {
       std::error_code ec;
       std::filesystem::create_directories(out, ec);
-      if (ec) throw InputError("cannot create the output directory " + out.string() + ": " + ec.message());
+      if (ec)
+        throw InputError("cannot create the output directory " + out.string() + ": " +
+                         ec.message());
     }
   });
 
   // One run per directory: refused here, before log.txt is opened (and truncated).
   OutputLock lock;
   collectively(world, [&] {
-    if (rank == 0) lock = OutputLock(out);
+    if (rank == 0)
+      lock = OutputLock(out);
   });
 
   Log log(rank == 0, options.quiet || deck.output.quiet);
@@ -229,12 +242,14 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   log.info("granpack " GRANPACK_VERSION ": " + deck.file + " -> " + out.string() + " on " +
            std::to_string(size) + " rank(s), dimension " + std::to_string(deck.sample.dimension) +
            ", n = " + std::to_string(deck.sample.n));
-  if (!lock.warning().empty()) log.warn(lock.warning());
+  if (!lock.warning().empty())
+    log.warn(lock.warning());
 
   CheckpointPolicy policy;
   policy.file = out / "checkpoint.h5";
   policy.every_steps = options.checkpoint_every_steps.value_or(deck.output.checkpoint_every_steps);
-  policy.every_seconds = options.checkpoint_every_seconds.value_or(deck.output.checkpoint_every_seconds);
+  policy.every_seconds =
+      options.checkpoint_every_seconds.value_or(deck.output.checkpoint_every_seconds);
   Checkpointer checkpointer(world, policy);
   install_stop_signal_handlers();
 
@@ -250,10 +265,12 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
     else
       run_stages<2>(world, deck, log, out, report, checkpointer, options, state);
 
-    report.wall_seconds = checkpointer.earlier_wall_seconds +
-                          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    report.wall_seconds =
+        checkpointer.earlier_wall_seconds +
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     collectively(world, [&] {
-      if (rank == 0) write_report(out / "report.json", report);
+      if (rank == 0)
+        write_report(out / "report.json", report);
     });
   } catch (const CheckpointedStop& e) {
     log.record("stopped (exit " + std::to_string(e.exit_code()) + "): " + e.what());
@@ -276,17 +293,20 @@ std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>
        << ", " << deck.stages.size() << " stages:";
     for (const auto& st : deck.stages) {
       os << ' ' << st.kind;
-      if (st.name != st.kind) os << " '" << st.name << "'";
+      if (st.name != st.kind)
+        os << " '" << st.name << "'";
       // A read stage names a file the run needs at that stage: a missing one would stop the
       // run there, after the earlier stages' work.
       if (const auto* r = std::get_if<ReadStage>(&st.params)) {
         int missing = 0;
-        if (rank == 0) missing = std::filesystem::exists(r->file) ? 0 : 1;
+        if (rank == 0)
+          missing = std::filesystem::exists(r->file) ? 0 : 1;
         missing = broadcast_value(world, missing);
         if (missing)
-          throw InputError(deck.file + ": stage " + std::to_string(st.index) + " '" + st.name +
-                           "' (read): file '" + r->file +
-                           "' does not exist (relative paths are taken from the working directory)");
+          throw InputError(
+              deck.file + ": stage " + std::to_string(st.index) + " '" + st.name +
+              "' (read): file '" + r->file +
+              "' does not exist (relative paths are taken from the working directory)");
       }
     }
     os << '\n';
@@ -294,4 +314,4 @@ std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>
   return os.str();
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -3,7 +3,7 @@
 // rigidity/; this file reads the packing, chains the steps and reports.
 #include "granpack/app/stiffness.h"
 
-#ifdef GRANPACK_HAVE_RIGIDITY  // the executable reports NotImplemented without the layer
+#ifdef GRANPACK_HAVE_RIGIDITY // the executable reports NotImplemented without the layer
 
 #include <Eigen/Eigenvalues>
 #include <chrono>
@@ -18,11 +18,11 @@
 #include "granpack/app/analysis_sections.h"
 #include "granpack/comm/allgather.h"
 #include "granpack/comm/communicator.h"
-#include "granpack/packing/packing_view.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/derived_constants.h"
 #include "granpack/io/hdf5_store.h"
 #include "granpack/io/report.h"
+#include "granpack/packing/packing_view.h"
 #include "granpack/rigidity/condensation.h"
 #include "granpack/rigidity/mechanisms.h"
 #include "granpack/rigidity/virtual_work.h"
@@ -43,8 +43,10 @@ template <int dim> Vec<dim> prescribed_stress(const PackingView<dim>& v, std::st
   }
   bool any_fixed = false;
   for (int a = 0; a < dim; ++a) {
-    if (t.fixed[a]) any_fixed = true;
-    else sigma[a] = t.stress[a];
+    if (t.fixed[a])
+      any_fixed = true;
+    else
+      sigma[a] = t.stress[a];
   }
   source = "deck stage " + std::to_string(t.stage) + (any_fixed ? " (fixed axes measured)" : "");
   return sigma;
@@ -53,7 +55,8 @@ template <int dim> Vec<dim> prescribed_stress(const PackingView<dim>& v, std::st
 template <int dim> std::vector<GlobalId> gather_rattlers(const PackingView<dim>& v) {
   std::vector<GlobalId> mine;
   for (std::size_t i = 0; i < v.particles().n_owned(); ++i)
-    if (v.rattler(i)) mine.push_back(v.particles().id[i]);
+    if (v.rattler(i))
+      mine.push_back(v.particles().id[i]);
   std::vector<GlobalId> all = allgather_concat(v.world, mine);
   std::sort(all.begin(), all.end());
   return all;
@@ -63,7 +66,8 @@ template <int dim> std::vector<GlobalId> gather_rattlers(const PackingView<dim>&
 template <int dim> double z_five_thirds(const PackingView<dim>& v) {
   ForceMomentSums sums({5.0 / 3.0});
   for (const auto& c : v.contacts)
-    if (on_backbone(v, c)) sums.add(ContactForceSample{c.normal_force, 0, 0, 0, 0});
+    if (on_backbone(v, c))
+      sums.add(ContactForceSample{c.normal_force, 0, 0, 0, 0});
   global_sum_in_place(v.world, sums.sums());
   const double mean = sums.mean_normal_force();
   return sums.sums()[3] / sums.contacts() / std::pow(mean, 5.0 / 3.0);
@@ -71,18 +75,25 @@ template <int dim> double z_five_thirds(const PackingView<dim>& v) {
 
 /// Eigenvalues, ascending, of the symmetric part of a Schur complement.
 template <int dim> Vec<dim> schur_eigenvalues(const Moduli<dim>& m) {
-  return Eigen::SelfAdjointEigenSolver<Tensor<dim>>(0.5 * (m.schur + m.schur.transpose())).eigenvalues();
+  return Eigen::SelfAdjointEigenSolver<Tensor<dim>>(0.5 * (m.schur + m.schur.transpose()))
+      .eigenvalues();
 }
 
 template <int dim> nlohmann::json moduli_json(const Moduli<dim>& m, bool valid) {
-  if (!valid) return {{"bulk_modulus", nullptr}, {"shear_modulus_diag", nullptr}, {"c_diagonal_strains", nullptr}};
+  if (!valid)
+    return {{"bulk_modulus", nullptr},
+            {"shear_modulus_diag", nullptr},
+            {"c_diagonal_strains", nullptr}};
   std::vector<std::vector<double>> c(dim, std::vector<double>(dim));
   for (int a = 0; a < dim; ++a)
-    for (int b = 0; b < dim; ++b) c[a][b] = m.stiffness(a, b);
-  return {{"bulk_modulus", m.bulk}, {"shear_modulus_diag", m.shear_diag}, {"c_diagonal_strains", c}};
+    for (int b = 0; b < dim; ++b)
+      c[a][b] = m.stiffness(a, b);
+  return {
+      {"bulk_modulus", m.bulk}, {"shear_modulus_diag", m.shear_diag}, {"c_diagonal_strains", c}};
 }
 
-template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const FileMeta& meta) {
+template <int dim>
+nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const FileMeta& meta) {
   const auto start = std::chrono::steady_clock::now();
   ensure_petsc_initialized();
   PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, 1.5);
@@ -91,16 +102,19 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   // [GRC] App. A is a 2D construction; in 3D the rolling moment turns with the contact and
   // the divalent-grain modes change with distant pairs: refuse rather than get them wrong.
   if (dim == 3 && (law.cohesion || law.rolling))
-    throw NotImplemented(opt.file.string() + ": the stiffness of 3D packings with cohesion or rolling "
+    throw NotImplemented(opt.file.string() +
+                         ": the stiffness of 3D packings with cohesion or rolling "
                          "resistance is not implemented (2D only, [GRC] App. A)");
   // With cohesion the whole interaction network is analysed ([GRC] sec. III): a contact at
   // h = h0 carries no force but has the stiffness K_N.
-  if (cohesive) select_interaction_network(v);
+  if (cohesive)
+    select_interaction_network(v);
 
-  if (v.backbone.metrics.backbone_contacts == 0)  // known on every rank (a global count)
-    throw InputError(opt.file.string() + (cohesive ? std::string(": no interaction between grains")
-                                                   : ": no force-carrying contact (N > " + std::to_string(opt.threshold) +
-                                                         " a^2 P)") +
+  if (v.backbone.metrics.backbone_contacts == 0) // known on every rank (a global count)
+    throw InputError(opt.file.string() +
+                     (cohesive ? std::string(": no interaction between grains")
+                               : ": no force-carrying contact (N > " +
+                                     std::to_string(opt.threshold) + " a^2 P)") +
                      ": there is no backbone to analyse");
   StiffnessSystem<dim> s = assemble_stiffness(v, law);
   const int g = s.grain_dofs();
@@ -117,15 +131,18 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   BorderedMatrix<dim>& mech = s.mechanism_matrix();
   const DirectSolver chol = factorize(mech.uu, true, opt.null_pivot_threshold);
   const GrainSolve mech_solve = [&](::Vec b, ::Vec x) { chol.solve(b, x); };
-  const Moduli<dim> mm = condense<dim>(mech, mech_solve, v.system.cell.length, volume, Vec<dim>::Zero());
+  const Moduli<dim> mm =
+      condense<dim>(mech, mech_solve, v.system.cell.length, volume, Vec<dim>::Zero());
   // Strain mechanisms: the null space of the (symmetric) Schur complement.
   const Vec<dim> mech_schur = schur_eigenvalues(mm);
   int strain_mechanisms = 0;
-  for (int a = 0; a < dim; ++a) strain_mechanisms += mech_schur[a] < 1e-9 * s.mean_kn;
+  for (int a = 0; a < dim; ++a)
+    strain_mechanisms += mech_schur[a] < 1e-9 * s.mean_kn;
   const bool rigid = chol.null_pivots == 0 && chol.negative_pivots == 0 && strain_mechanisms == 0;
   // K(1) itself: the same factors without distant pairs, its own LDLᵀ (inertia) with them.
   std::optional<DirectSolver> own_k1;
-  if (s.has_gram()) own_k1 = factorize(s.k1.uu, true, opt.null_pivot_threshold);
+  if (s.has_gram())
+    own_k1 = factorize(s.k1.uu, true, opt.null_pivot_threshold);
   const DirectSolver& k1f = own_k1 ? *own_k1 : chol;
   // Inertia of K(1): the negative eigenvalues that distant pairs can bring. On a floppy
   // network the null pivots of a singular matrix come out with either sign, so the count is
@@ -139,16 +156,20 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
     k1_negative = factorize(shifted, true, 0.0).negative_pivots;
   }
   double eigen_seconds = 0;
-  const std::vector<double> eig = smallest_eigenvalues(s.k1.uu, k1f, opt.eigenvalues, s.mean_kn, &eigen_seconds);
+  const std::vector<double> eig =
+      smallest_eigenvalues(s.k1.uu, k1f, opt.eigenvalues, s.mean_kn, &eigen_seconds);
   const Moduli<dim> m1 = !own_k1 ? mm
-                                 : condense<dim>(s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); },
-                                                 v.system.cell.length, volume, Vec<dim>::Zero());
-  const bool positive_definite = rigid && k1f.null_pivots == 0 && k1f.negative_pivots == 0 && k1_negative == 0 &&
-                                 schur_eigenvalues(m1)[0] > 1e-9 * s.mean_kn && !eig.empty() && eig.front() > 0;
+                                 : condense<dim>(
+                                       s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); },
+                                       v.system.cell.length, volume, Vec<dim>::Zero());
+  const bool positive_definite = rigid && k1f.null_pivots == 0 && k1f.negative_pivots == 0 &&
+                                 k1_negative == 0 && schur_eigenvalues(m1)[0] > 1e-9 * s.mean_kn &&
+                                 !eig.empty() && eig.front() > 0;
   // Unexpected mechanisms are named; the response of such a backbone is not computed.
   std::vector<std::vector<GlobalId>> floppy;
   if (chol.null_pivots > 0)
-    floppy = floppy_modes(mech.uu, s.numbering, g, s.mean_kn, int(chol.null_pivots) + 4, 1e-8, 1e-7);
+    floppy =
+        floppy_modes(mech.uu, s.numbering, g, s.mean_kn, int(chol.null_pivots) + 4, 1e-8, 1e-7);
 
   // Without friction K = K(1) + K(2) is symmetric (central forces): its inertia says whether
   // the prestress (K(2) is negative there, [AR] App. B) leaves the backbone stable.
@@ -156,11 +177,13 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   Moduli<dim> m;
   std::int64_t gmres_iterations = 0;
   if (positive_definite) {
-    if (!s.layout.rotations) ldl_k = factorize(s.k.uu, true, opt.null_pivot_threshold);
+    if (!s.layout.rotations)
+      ldl_k = factorize(s.k.uu, true, opt.null_pivot_threshold);
     // K = K(1) + K(2): GMRES preconditioned by the K(1) factors (no second factorisation).
     PreconditionedSolver gmres = krylov_with_factors(s.k.uu, k1f, 1e-13);
-    m = condense<dim>(s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, v.system.cell.length, volume,
-                      Vec<dim>(v.stress.diagonal()));
+    m = condense<dim>(
+        s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, v.system.cell.length, volume,
+        Vec<dim>(v.stress.diagonal()));
     gmres_iterations = gmres.iterations;
   }
 
@@ -170,7 +193,8 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const std::int64_t k = dim + std::int64_t(km.divalent.size()) + other + strain_mechanisms;
   const std::int64_t nf = s.dof();
   const std::int64_t h = s.rows + k - nf;
-  const Hyperstaticity eq37 = hyperstaticity<dim>(s.contacts, n_star, std::int64_t(km.divalent.size()), s.layout.rotations);
+  const Hyperstaticity eq37 =
+      hyperstaticity<dim>(s.contacts, n_star, std::int64_t(km.divalent.size()), s.layout.rotations);
   const std::vector<GlobalId> rattlers = gather_rattlers(v);
 
   nlohmann::json j = packing_summary(v, opt.file);
@@ -178,7 +202,8 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["backbone_grains"] = n_star;
   j["backbone_contacts"] = s.contacts;
   j["rattlers"] = std::int64_t(rattlers.size());
-  j["detached_clusters"] = v.detached_clusters;  // interaction network only: not in the largest cluster
+  j["detached_clusters"] =
+      v.detached_clusters; // interaction network only: not in the largest cluster
   j["detached_grains"] = v.detached_grains;
   j["grain_dofs"] = g;
   j["N_f"] = nf;
@@ -188,10 +213,10 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["rolling_rows"] = s.layout.rolling;
   // [GRC]'s names for the same count N_f + H = M + k: eq. (19) with friction, (21) with
   // rolling resistance, (22) without friction.
-  j["H_relation"] = !cohesive              ? (s.layout.rotations ? "AR eq. 19" : "AR eq. 19 (normal rows)")
-                    : !s.layout.rotations   ? "GRC eq. 22"
-                    : s.layout.rolling      ? "GRC eq. 21"
-                                            : "GRC eq. 19";
+  j["H_relation"] = !cohesive ? (s.layout.rotations ? "AR eq. 19" : "AR eq. 19 (normal rows)")
+                    : !s.layout.rotations ? "GRC eq. 22"
+                    : s.layout.rolling    ? "GRC eq. 21"
+                                          : "GRC eq. 19";
   j["mechanisms"] = k;
   j["trivial_mechanisms"] = dim;
   j["divalent_mechanisms"] = std::int64_t(km.divalent.size());
@@ -200,7 +225,8 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["strain_mechanisms"] = strain_mechanisms;
   j["rattler_mechanisms"] = std::int64_t(rattlers.size()) * g;
   nlohmann::json div = nlohmann::json::array();
-  for (const auto& d : km.divalent) div.push_back({{"grain", d.grain}, {"neighbours", {d.neighbours[0], d.neighbours[1]}}});
+  for (const auto& d : km.divalent)
+    div.push_back({{"grain", d.grain}, {"neighbours", {d.neighbours[0], d.neighbours[1]}}});
   j["divalent_grains"] = div;
   j["other_mechanism_grains"] = floppy;
   j["rattler_grains"] = rattlers;
@@ -229,7 +255,8 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["virtual_work_grain_residual"] = vw.grain_residual;
   j["max_net_grain_force"] = vw.max_grain_force;
   j["prescribed_stress_source"] = stress_source;
-  std::vector<double> sig(sigma.data(), sigma.data() + dim), sig_f(vw.stress_from_forces.data(), vw.stress_from_forces.data() + dim);
+  std::vector<double> sig(sigma.data(), sigma.data() + dim),
+      sig_f(vw.stress_from_forces.data(), vw.stress_from_forces.data() + dim);
   j["prescribed_stress"] = sig;
   j["stress_from_forces"] = sig_f;
   j["mean_kn"] = s.mean_kn;
@@ -245,15 +272,19 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   const double z53 = z_five_thirds(v);
   j["z"] = z;
   j["Z_5_3"] = z53;
-  if (dim == 3 && mat.normal == NormalLawKind::kHertz && v.deck.sample.distribution == "monodisperse") {
+  if (dim == 3 && mat.normal == NormalLawKind::kHertz &&
+      v.deck.sample.distribution == "monodisperse") {
     const double e_tilde = e_tilde_of(mat.young_modulus, mat.poisson_ratio);
-    const double b30 = 1.0 / (2.0 * z53) * std::pow(z * v.phi / (3.0 * std::numbers::pi), 2.0 / 3.0) *
+    const double b30 = 1.0 / (2.0 * z53) *
+                       std::pow(z * v.phi / (3.0 * std::numbers::pi), 2.0 / 3.0) *
                        std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure);
     j["bulk_modulus_eq30"] = b30;
-    j["bulk_modulus_over_eq30"] = positive_definite ? nlohmann::json(m.bulk / b30) : nlohmann::json();
-    j["bulk_modulus_reduced"] = positive_definite ? nlohmann::json(m.bulk / (std::pow(e_tilde, 2.0 / 3.0) *
-                                                                               std::cbrt(v.pressure)))
-                                                  : nlohmann::json();
+    j["bulk_modulus_over_eq30"] =
+        positive_definite ? nlohmann::json(m.bulk / b30) : nlohmann::json();
+    j["bulk_modulus_reduced"] =
+        positive_definite
+            ? nlohmann::json(m.bulk / (std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure)))
+            : nlohmann::json();
   } else {
     j["bulk_modulus_eq30"] = nullptr;
   }
@@ -262,49 +293,60 @@ template <int dim> nlohmann::json stiffness(MPI_Comm world, const StiffnessOptio
   j["partition"] = {{"method", s.numbering.metis ? "metis" : "none (one rank)"},
                     {"edge_cut_metis", s.numbering.edge_cut_metis},
                     {"edge_cut_spatial", s.numbering.edge_cut_spatial}};
-  j["timings_seconds"] = {{"assembly", s.assembly_seconds},
-                          {"cholesky_K1", chol.seconds},
-                          {"eigensolve", eigen_seconds},
-                          {"condensation_K1", m1.seconds},
-                          {"condensation_K_gmres", m.seconds},
-                          {"ldlt_K", ldl_k ? ldl_k->seconds : 0.0},
-                          {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+  j["timings_seconds"] = {
+      {"assembly", s.assembly_seconds},
+      {"cholesky_K1", chol.seconds},
+      {"eigensolve", eigen_seconds},
+      {"condensation_K1", m1.seconds},
+      {"condensation_K_gmres", m.seconds},
+      {"ldlt_K", ldl_k ? ldl_k->seconds : 0.0},
+      {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
   return j;
 }
 
 std::string fixed(const nlohmann::json& v) {
-  if (v.is_null()) return "-";
+  if (v.is_null())
+    return "-";
   char b[40];
   std::snprintf(b, sizeof b, "%.6g", v.get<double>());
   return b;
 }
-std::string count(const nlohmann::json& v) { return std::to_string(v.get<long long>()); }
-std::string yes_no(const nlohmann::json& v) { return v.is_null() ? "-" : v.get<bool>() ? "yes" : "no"; }
+std::string count(const nlohmann::json& v) {
+  return std::to_string(v.get<long long>());
+}
+std::string yes_no(const nlohmann::json& v) {
+  return v.is_null() ? "-" : v.get<bool>() ? "yes" : "no";
+}
 
 /// The readable summary rank 0 prints: (label, value) lines.
 std::string table(const nlohmann::json& j) {
   const auto& t = j["timings_seconds"];
   const auto& part = j["partition"];
   std::string eig;
-  for (const auto& e : j["smallest_eigenvalues_over_mean_kn"]) eig += fixed(e) + " ";
+  for (const auto& e : j["smallest_eigenvalues_over_mean_kn"])
+    eig += fixed(e) + " ";
   const std::vector<std::pair<std::string, std::string>> lines = {
-      {"dimension, n, ranks", count(j["dimension"]) + ", " + count(j["n"]) + ", " + count(j["ranks"])},
+      {"dimension, n, ranks",
+       count(j["dimension"]) + ", " + count(j["n"]) + ", " + count(j["ranks"])},
       {"friction mu", j["friction"].dump()},
-      {"backbone grains, contacts", count(j["backbone_grains"]) + ", " + count(j["backbone_contacts"])},
+      {"backbone grains, contacts",
+       count(j["backbone_grains"]) + ", " + count(j["backbone_contacts"])},
       {"network", j["network"].get<std::string>() + " (distant pairs " + count(j["distant_pairs"]) +
                       (j["rolling_rows"].get<bool>() ? ", rolling rows)" : ")")},
       {"N_f, rows of G", count(j["N_f"]) + ", " + count(j["G_rows"])},
       {"virtual work |tG f - F|/|F|", fixed(j["virtual_work_residual"]) + " (grain rows " +
                                           fixed(j["virtual_work_grain_residual"]) + ", Sigma: " +
                                           j["prescribed_stress_source"].get<std::string>() + ")"},
-      {"mechanisms k", count(j["mechanisms"]) + " = " + count(j["trivial_mechanisms"]) + " trivial + " +
-                           count(j["divalent_mechanisms"]) + " divalent + " + count(j["other_mechanisms"]) +
-                           " other + " + count(j["strain_mechanisms"]) + " strain"},
-      {"rattlers (not in G), their dofs", count(j["rattlers"]) + ", " + count(j["rattler_mechanisms"]) +
-                                               (j["network"] == "interactions"
-                                                    ? " (" + count(j["detached_grains"]) + " in " +
-                                                          count(j["detached_clusters"]) + " detached clusters)"
-                                                    : std::string())},
+      {"mechanisms k", count(j["mechanisms"]) + " = " + count(j["trivial_mechanisms"]) +
+                           " trivial + " + count(j["divalent_mechanisms"]) + " divalent + " +
+                           count(j["other_mechanisms"]) + " other + " +
+                           count(j["strain_mechanisms"]) + " strain"},
+      {"rattlers (not in G), their dofs",
+       count(j["rattlers"]) + ", " + count(j["rattler_mechanisms"]) +
+           (j["network"] == "interactions"
+                ? " (" + count(j["detached_grains"]) + " in " + count(j["detached_clusters"]) +
+                      " detached clusters)"
+                : std::string())},
       {"divalent modes |K1 v|/(<k_n>|v|)", fixed(j["divalent_mode_residual"])},
       {"smallest eig. (stiffened)/<k_n>", eig},
       {"rigid (only trivial/divalent modes)", yes_no(j["rigid"])},
@@ -317,19 +359,26 @@ std::string table(const nlohmann::json& j) {
       {"isostatic", yes_no(j["isostatic"])},
       {"bulk modulus B (K1+K2) / Pa", fixed(j["bulk_modulus"])},
       {"B from K1 only / Pa", fixed(j["constitutive"]["bulk_modulus"])},
-      {"B eq. (30) / Pa, B / B(30)", fixed(j["bulk_modulus_eq30"]) + ", " + fixed(j.value("bulk_modulus_over_eq30", nlohmann::json()))},
+      {"B eq. (30) / Pa, B / B(30)",
+       fixed(j["bulk_modulus_eq30"]) + ", " +
+           fixed(j.value("bulk_modulus_over_eq30", nlohmann::json()))},
       {"shear modulus (diag. strains) / Pa", fixed(j["shear_modulus_diag"]) + " (K1 only " +
-                                                 fixed(j["constitutive"]["shear_modulus_diag"]) + ")"},
-      {"edge cut: METIS / spatial", count(part["edge_cut_metis"]) + " / " + count(part["edge_cut_spatial"])},
-      {"time: assembly, Cholesky, eig (s)", fixed(t["assembly"]) + ", " + fixed(t["cholesky_K1"]) + ", " + fixed(t["eigensolve"])},
-      {"time: condense K1, K (GMRES its)", fixed(t["condensation_K1"]) + ", " + fixed(t["condensation_K_gmres"]) + " (" +
+                                                 fixed(j["constitutive"]["shear_modulus_diag"]) +
+                                                 ")"},
+      {"edge cut: METIS / spatial",
+       count(part["edge_cut_metis"]) + " / " + count(part["edge_cut_spatial"])},
+      {"time: assembly, Cholesky, eig (s)",
+       fixed(t["assembly"]) + ", " + fixed(t["cholesky_K1"]) + ", " + fixed(t["eigensolve"])},
+      {"time: condense K1, K (GMRES its)", fixed(t["condensation_K1"]) + ", " +
+                                               fixed(t["condensation_K_gmres"]) + " (" +
                                                count(j["gmres_iterations_K"]) + ")"},
   };
   std::vector<std::pair<std::string, std::string>> all = lines;
   const auto& other = j["other_mechanism_grains"];
   for (std::size_t k = 0; k < other.size() && k < 5; ++k) {
     std::string ids;
-    for (const auto& id : other[k]) ids += count(id) + " ";
+    for (const auto& id : other[k])
+      ids += count(id) + " ";
     all.emplace_back("  other mechanism " + std::to_string(k + 1) + ": grains", ids);
   }
   std::string out = "granpack stiffness: " + j["file"].get<std::string>() + "\n";
@@ -341,19 +390,21 @@ std::string table(const nlohmann::json& j) {
   return out;
 }
 
-}  // namespace
+} // namespace
 
 std::string stiffness_file(MPI_Comm world, const StiffnessOptions& options) {
   const FileMeta meta = read_file_meta(world, options.file);
-  nlohmann::json j = meta.dimension == 3 ? stiffness<3>(world, options, meta) : stiffness<2>(world, options, meta);
+  nlohmann::json j =
+      meta.dimension == 3 ? stiffness<3>(world, options, meta) : stiffness<2>(world, options, meta);
   const int rank = rank_of(world);
   if (rank == 0) {
     std::cout << table(j);
-    if (options.json) write_text_atomically(*options.json, j.dump(2) + "\n");
+    if (options.json)
+      write_text_atomically(*options.json, j.dump(2) + "\n");
   }
   return j.dump();
 }
 
-}  // namespace granpack
+} // namespace granpack
 
-#endif  // GRANPACK_HAVE_RIGIDITY
+#endif // GRANPACK_HAVE_RIGIDITY

@@ -15,25 +15,29 @@ struct DisjointSets {
   std::unordered_map<std::int64_t, std::size_t> index;
   std::size_t of(std::int64_t id) {
     const auto [it, added] = index.try_emplace(id, parent.size());
-    if (added) parent.push_back(it->second);
+    if (added)
+      parent.push_back(it->second);
     return it->second;
   }
   std::size_t find(std::size_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    while (parent[x] != x)
+      x = parent[x] = parent[parent[x]];
     return x;
   }
   /// True when a and b were in different sets.
   bool unite(std::int64_t id_a, std::int64_t id_b) {
     std::size_t a = find(of(id_a)), b = find(of(id_b));
-    if (a == b) return false;
+    if (a == b)
+      return false;
     parent[std::max(a, b)] = std::min(a, b);
     return true;
   }
 };
 
 /// Every rank's pairs on rank 0, two ids after another (empty elsewhere).
-std::vector<double> gather_pairs(const std::vector<std::pair<GlobalId, GlobalId>>& pairs, MPI_Comm comm) {
-  std::vector<double> mine;  // ids are < 2^53: exact as doubles
+std::vector<double> gather_pairs(const std::vector<std::pair<GlobalId, GlobalId>>& pairs,
+                                 MPI_Comm comm) {
+  std::vector<double> mine; // ids are < 2^53: exact as doubles
   mine.reserve(2 * pairs.size());
   for (const auto& [a, b] : pairs) {
     mine.push_back(double(a));
@@ -41,7 +45,7 @@ std::vector<double> gather_pairs(const std::vector<std::pair<GlobalId, GlobalId>
   }
   return gather_values(mine, comm, 0);
 }
-}  // namespace
+} // namespace
 
 std::int64_t count_clusters(const std::vector<std::pair<GlobalId, GlobalId>>& pairs,
                             std::int64_t n_grains, MPI_Comm comm) {
@@ -63,12 +67,13 @@ std::int64_t count_clusters(const std::vector<std::pair<GlobalId, GlobalId>>& pa
   return clusters;
 }
 
-ClusterSplit split_clusters(const std::vector<std::pair<GlobalId, GlobalId>>& pairs, MPI_Comm comm) {
+ClusterSplit split_clusters(const std::vector<std::pair<GlobalId, GlobalId>>& pairs,
+                            MPI_Comm comm) {
   const std::vector<double> all = gather_pairs(pairs, comm);
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   ClusterSplit out;
-  std::int64_t counts[3] = {0, 0, 0};  // size of the largest, other clusters, their grains
+  std::int64_t counts[3] = {0, 0, 0}; // size of the largest, other clusters, their grains
   if (rank == 0) {
     DisjointSets sets;
     for (std::size_t k = 0; k + 1 < all.size(); k += 2)
@@ -83,10 +88,12 @@ ClusterSplit split_clusters(const std::vector<std::pair<GlobalId, GlobalId>>& pa
     std::size_t best = 0;
     std::pair<std::int64_t, GlobalId> best_key{-1, 0};
     for (const auto& [root, key] : size_and_min)
-      if (key.first > best_key.first || (key.first == best_key.first && key.second < best_key.second))
+      if (key.first > best_key.first ||
+          (key.first == best_key.first && key.second < best_key.second))
         best = root, best_key = key;
     for (const auto& [id, x] : sets.index)
-      if (sets.find(x) == best) out.largest.push_back(id);
+      if (sets.find(x) == best)
+        out.largest.push_back(id);
     std::sort(out.largest.begin(), out.largest.end());
     counts[0] = std::int64_t(out.largest.size());
     counts[1] = std::int64_t(size_and_min.size()) - (size_and_min.empty() ? 0 : 1);
@@ -100,4 +107,4 @@ ClusterSplit split_clusters(const std::vector<std::pair<GlobalId, GlobalId>>& pa
   return out;
 }
 
-}  // namespace granpack
+} // namespace granpack

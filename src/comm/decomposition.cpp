@@ -5,8 +5,7 @@
 
 namespace granpack {
 
-template <int dim>
-Decomposition<dim>::Decomposition(MPI_Comm world, const Vec<dim>& cell_lengths) {
+template <int dim> Decomposition<dim>::Decomposition(MPI_Comm world, const Vec<dim>& cell_lengths) {
   int nranks = 1;
   MPI_Comm_size(world, &nranks);
   // MPI_Dims_create returns dims in non-increasing order; give the largest count to the
@@ -17,7 +16,8 @@ Decomposition<dim>::Decomposition(MPI_Comm world, const Vec<dim>& cell_lengths) 
   std::iota(axes.begin(), axes.end(), 0);
   std::stable_sort(axes.begin(), axes.end(),
                    [&](int a, int b) { return cell_lengths[a] > cell_lengths[b]; });
-  for (int k = 0; k < dim; ++k) dims_[axes[k]] = d[k];
+  for (int k = 0; k < dim; ++k)
+    dims_[axes[k]] = d[k];
   create_grid(world);
 }
 
@@ -41,7 +41,8 @@ template <int dim> void Decomposition<dim>::create_grid(MPI_Comm world) {
 }
 
 template <int dim> Decomposition<dim>::~Decomposition() {
-  if (cart_ != MPI_COMM_NULL) MPI_Comm_free(&cart_);
+  if (cart_ != MPI_COMM_NULL)
+    MPI_Comm_free(&cart_);
 }
 
 template <int dim> int Decomposition<dim>::owner_of(const Vec<dim>& s) const {
@@ -56,4 +57,4 @@ template <int dim> int Decomposition<dim>::owner_of(const Vec<dim>& s) const {
 template class Decomposition<2>;
 template class Decomposition<3>;
 
-}  // namespace granpack
+} // namespace granpack

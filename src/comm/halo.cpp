@@ -28,7 +28,8 @@ std::vector<double> sendrecv(MPI_Comm comm, const std::vector<double>& out, int 
 /// receives and sends posted, one wait, one latency instead of two. (An axis along which this
 /// rank is alone never comes here: its ghosts are its own images, copied in place.)
 void exchange_axis(MPI_Comm comm, std::vector<double> (&out)[2], std::vector<double> (&in)[2],
-                   const std::size_t (&n_in)[2], const int (&to)[2], const int (&from)[2], int tag) {
+                   const std::size_t (&n_in)[2], const int (&to)[2], const int (&from)[2],
+                   int tag) {
   MPI_Request req[4];
   for (int q = 0; q < 2; ++q) {
     in[q].resize(n_in[q]);
@@ -39,7 +40,7 @@ void exchange_axis(MPI_Comm comm, std::vector<double> (&out)[2], std::vector<dou
               &req[2 + q]);
   MPI_Waitall(4, req, MPI_STATUSES_IGNORE);
 }
-}  // namespace
+} // namespace
 
 template <int dim>
 void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, const Vec<dim>& width) {
@@ -53,49 +54,55 @@ void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, cons
     // together. Ghosts come from the nearest sub-domain only: a narrower one would lose pairs.
     if (width[a] > box) {
       std::ostringstream os;
-      os << d.dims()[a] << " ranks along axis " << a << " cut the cell into sub-domains of "
-         << box << " of its length, narrower than the interaction range of the grains (ghost "
+      os << d.dims()[a] << " ranks along axis " << a << " cut the cell into sub-domains of " << box
+         << " of its length, narrower than the interaction range of the grains (ghost "
          << "layer: " << width[a] << " of the cell length): run on fewer ranks (at most "
          << static_cast<int>(1.0 / width[a]) << " along this axis) or on a larger sample";
       throw InputError(os.str());
     }
-    const std::size_t candidates = p.size();  // owned + ghosts of earlier axes
+    const std::size_t candidates = p.size(); // owned + ghosts of earlier axes
     for (int dir : {-1, +1}) {
       Swap sw;
       sw.axis = a;
       MPI_Cart_shift(d.comm(), a, dir, &sw.from, &sw.to);
       sw.self = sw.from == me && sw.to == me;
       // Leaving through the periodic boundary: lower face of coord 0 or upper of the last.
-      if (dir < 0 && d.coords()[a] == 0) sw.shift = 1.0;
-      if (dir > 0 && d.coords()[a] == d.dims()[a] - 1) sw.shift = -1.0;
+      if (dir < 0 && d.coords()[a] == 0)
+        sw.shift = 1.0;
+      if (dir > 0 && d.coords()[a] == d.dims()[a] - 1)
+        sw.shift = -1.0;
       std::vector<double> buf;
       for (std::size_t i = 0; i < candidates; ++i) {
         double s = p.position[i][a];
         bool near = dir < 0 ? s < d.lo()[a] + width[a] : s >= d.hi()[a] - width[a];
-        if (!near) continue;
+        if (!near)
+          continue;
         sw.send.push_back(i);
         std::size_t at = buf.size();
         Packing<dim>::pack_particle(p, i, buf);
-        buf[at + 4 + a] += sw.shift;  // position[a] sits after id, radius, mass, inertia
+        buf[at + 4 + a] += sw.shift; // position[a] sits after id, radius, mass, inertia
       }
       std::vector<double> in = sendrecv(d.comm(), buf, sw.to, sw.from);
       sw.recv_first = p.size();
       std::size_t pos = 0;
-      while (pos < in.size()) p.add_ghost(Packing<dim>::unpack_particle(in.data(), pos));
+      while (pos < in.size())
+        p.add_ghost(Packing<dim>::unpack_particle(in.data(), pos));
       sw.recv_count = p.size() - sw.recv_first;
       swaps_.push_back(std::move(sw));
     }
   }
 }
 
-template <int dim> void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
+template <int dim>
+void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
   constexpr int per = 2 * dim + rot_dim<dim>;
   // swaps_ holds, per axis, the exchange towards -1 then the one towards +1 (borders()).
   for (std::size_t s0 = 0; s0 < swaps_.size(); s0 += 2) {
-    if (swaps_[s0].self) {  // then both are: one rank along the axis
+    if (swaps_[s0].self) { // then both are: one rank along the axis
       // One rank along the axis: the ghosts are images of our own grains, copied in place
       // (no buffer: half the memory traffic of pack + unpack).
-      for (int q = 0; q < 2; ++q) copy_to_images(p, swaps_[s0 + q]);
+      for (int q = 0; q < 2; ++q)
+        copy_to_images(p, swaps_[s0 + q]);
       continue;
     }
     std::size_t n_in[2];
@@ -105,9 +112,12 @@ template <int dim> void Halo<dim>::forward(ParticleStore<dim>& p, const Decompos
       out_[q].resize(sw.send.size() * per);
       double* o = out_[q].data();
       for (std::size_t i : sw.send) {
-        for (int a = 0; a < dim; ++a) *o++ = p.position[i][a] + (a == sw.axis ? sw.shift : 0.0);
-        for (int a = 0; a < dim; ++a) *o++ = p.velocity[i][a];
-        for (int a = 0; a < rot_dim<dim>; ++a) *o++ = p.angular_velocity[i][a];
+        for (int a = 0; a < dim; ++a)
+          *o++ = p.position[i][a] + (a == sw.axis ? sw.shift : 0.0);
+        for (int a = 0; a < dim; ++a)
+          *o++ = p.velocity[i][a];
+        for (int a = 0; a < rot_dim<dim>; ++a)
+          *o++ = p.angular_velocity[i][a];
       }
       n_in[q] = sw.recv_count * per;
       to[q] = sw.to;
@@ -118,15 +128,19 @@ template <int dim> void Halo<dim>::forward(ParticleStore<dim>& p, const Decompos
       const Swap& sw = swaps_[s0 + q];
       const double* in = in_[q].data();
       for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
-        for (int a = 0; a < dim; ++a) p.position[g][a] = *in++;
-        for (int a = 0; a < dim; ++a) p.velocity[g][a] = *in++;
-        for (int a = 0; a < rot_dim<dim>; ++a) p.angular_velocity[g][a] = *in++;
+        for (int a = 0; a < dim; ++a)
+          p.position[g][a] = *in++;
+        for (int a = 0; a < dim; ++a)
+          p.velocity[g][a] = *in++;
+        for (int a = 0; a < rot_dim<dim>; ++a)
+          p.angular_velocity[g][a] = *in++;
       }
     }
   }
 }
 
-template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
+template <int dim>
+void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
   constexpr int per = dim + rot_dim<dim>;
   // Axes in reverse order (ghosts of later axes may be images of earlier axes' ghosts).
   for (std::size_t s0 = swaps_.size(); s0 >= 2; s0 -= 2) {
@@ -134,7 +148,8 @@ template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decompos
       // +1 then -1, as below. The owners an axis adds into existed before the axis began and
       // its ghosts came after, so adding one swap's ghosts before zeroing the other's changes
       // nothing: the same sums in the same order as through buffers.
-      for (int q = 1; q >= 0; --q) add_from_images(p, swaps_[s0 - 2 + q]);
+      for (int q = 1; q >= 0; --q)
+        add_from_images(p, swaps_[s0 - 2 + q]);
       continue;
     }
     std::size_t n_in[2];
@@ -144,8 +159,10 @@ template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decompos
       out_[q].resize(sw.recv_count * per);
       double* o = out_[q].data();
       for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
-        for (int a = 0; a < dim; ++a) *o++ = p.force[g][a];
-        for (int a = 0; a < rot_dim<dim>; ++a) *o++ = p.torque[g][a];
+        for (int a = 0; a < dim; ++a)
+          *o++ = p.force[g][a];
+        for (int a = 0; a < rot_dim<dim>; ++a)
+          *o++ = p.torque[g][a];
         p.force[g].setZero();
         p.torque[g].setZero();
       }
@@ -155,12 +172,14 @@ template <int dim> void Halo<dim>::reverse(ParticleStore<dim>& p, const Decompos
       from[q] = sw.to;
     }
     exchange_axis(d.comm(), out_, in_, n_in, to, from, 40);
-    for (int q = 1; q >= 0; --q) {  // +1 then -1, the order of the swaps reversed
+    for (int q = 1; q >= 0; --q) { // +1 then -1, the order of the swaps reversed
       const Swap& sw = swaps_[s0 - 2 + q];
       const double* in = in_[q].data();
       for (std::size_t i : sw.send) {
-        for (int a = 0; a < dim; ++a) p.force[i][a] += *in++;
-        for (int a = 0; a < rot_dim<dim>; ++a) p.torque[i][a] += *in++;
+        for (int a = 0; a < dim; ++a)
+          p.force[i][a] += *in++;
+        for (int a = 0; a < rot_dim<dim>; ++a)
+          p.torque[i][a] += *in++;
       }
     }
   }
@@ -193,7 +212,8 @@ void Halo<dim>::forward_values(std::vector<double>& values, const Decomposition<
   std::vector<double> buf;
   for (const Swap& sw : swaps_) {
     buf.clear();
-    for (std::size_t i : sw.send) buf.push_back(values[i]);
+    for (std::size_t i : sw.send)
+      buf.push_back(values[i]);
     std::vector<double> in = sendrecv(d.comm(), buf, sw.to, sw.from);
     GRANPACK_CHECK(in.size() == sw.recv_count, "halo forward_values: ghost count changed");
     std::copy(in.begin(), in.end(), values.begin() + static_cast<std::ptrdiff_t>(sw.recv_first));
@@ -210,11 +230,12 @@ void Halo<dim>::reverse_values(std::vector<double>& values, const Decomposition<
     std::fill_n(values.begin() + static_cast<std::ptrdiff_t>(sw.recv_first), sw.recv_count, 0.0);
     std::vector<double> in = sendrecv(d.comm(), buf, sw.from, sw.to);
     GRANPACK_CHECK(in.size() == sw.send.size(), "halo reverse_values: ghost count changed");
-    for (std::size_t k = 0; k < sw.send.size(); ++k) values[sw.send[k]] += in[k];
+    for (std::size_t k = 0; k < sw.send.size(); ++k)
+      values[sw.send[k]] += in[k];
   }
 }
 
 template class Halo<2>;
 template class Halo<3>;
 
-}  // namespace granpack
+} // namespace granpack

@@ -14,7 +14,8 @@ std::vector<std::int64_t> route_by_id(MPI_Comm comm, const std::vector<std::int6
   MPI_Comm_size(comm, &size);
   std::vector<int> send_counts(size, 0), recv_counts(size, 0);
   auto owner = [&](std::int64_t v) { return static_cast<int>(((v % size) + size) % size); };
-  for (const auto v : values) ++send_counts[owner(v)];
+  for (const auto v : values)
+    ++send_counts[owner(v)];
   MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm);
   std::vector<int> send_displ(size, 0), recv_displ(size, 0);
   for (int r = 1; r < size; ++r) {
@@ -23,14 +24,16 @@ std::vector<std::int64_t> route_by_id(MPI_Comm comm, const std::vector<std::int6
   }
   std::vector<std::int64_t> send(values.size());
   std::vector<int> fill = send_displ;
-  for (const auto v : values) send[fill[owner(v)]++] = v;
-  std::vector<std::int64_t> recv(static_cast<std::size_t>(recv_displ[size - 1] + recv_counts[size - 1]));
+  for (const auto v : values)
+    send[fill[owner(v)]++] = v;
+  std::vector<std::int64_t> recv(
+      static_cast<std::size_t>(recv_displ[size - 1] + recv_counts[size - 1]));
   MPI_Alltoallv(send.data(), send_counts.data(), send_displ.data(), MPI_INT64_T, recv.data(),
                 recv_counts.data(), recv_displ.data(), MPI_INT64_T, comm);
   return recv;
 }
 
-}  // namespace
+} // namespace
 
 std::string find_id_inconsistency(MPI_Comm comm, std::span<const std::int64_t> ids,
                                   std::span<const std::int64_t> first,
@@ -48,7 +51,8 @@ std::string find_id_inconsistency(MPI_Comm comm, std::span<const std::int64_t> i
   std::vector<std::int64_t> ends(first.begin(), first.end());
   ends.insert(ends.end(), second.begin(), second.end());
   for (const auto e : route_by_id(comm, ends))
-    if (!std::binary_search(mine.begin(), mine.end(), e)) worst[1] = std::min(worst[1], e);
+    if (!std::binary_search(mine.begin(), mine.end(), e))
+      worst[1] = std::min(worst[1], e);
   MPI_Allreduce(MPI_IN_PLACE, worst, 2, MPI_INT64_T, MPI_MIN, comm);
   if (worst[0] != kNone) {
     // How often: counted by the rank that holds the id, then shared.
@@ -63,4 +67,4 @@ std::string find_id_inconsistency(MPI_Comm comm, std::span<const std::int64_t> i
   return "";
 }
 
-}  // namespace granpack
+} // namespace granpack

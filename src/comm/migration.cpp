@@ -11,7 +11,8 @@ namespace granpack {
 
 namespace {
 /// MPI_Alltoallv of double buffers, one per destination rank.
-std::vector<std::vector<double>> exchange(MPI_Comm comm, const std::vector<std::vector<double>>& out) {
+std::vector<std::vector<double>> exchange(MPI_Comm comm,
+                                          const std::vector<std::vector<double>>& out) {
   const int n = static_cast<int>(out.size());
   std::vector<int> sc(n), rc(n), sd(n, 0), rd(n, 0);
   std::vector<double> sbuf;
@@ -22,15 +23,17 @@ std::vector<std::vector<double>> exchange(MPI_Comm comm, const std::vector<std::
   }
   MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, comm);
   int total = 0;
-  for (int r = 0; r < n; ++r) rd[r] = total, total += rc[r];
+  for (int r = 0; r < n; ++r)
+    rd[r] = total, total += rc[r];
   std::vector<double> rbuf(static_cast<std::size_t>(total));
   MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_DOUBLE, rbuf.data(), rc.data(), rd.data(),
                 MPI_DOUBLE, comm);
   std::vector<std::vector<double>> in(n);
-  for (int r = 0; r < n; ++r) in[r].assign(rbuf.begin() + rd[r], rbuf.begin() + rd[r] + rc[r]);
+  for (int r = 0; r < n; ++r)
+    in[r].assign(rbuf.begin() + rd[r], rbuf.begin() + rd[r] + rc[r]);
   return in;
 }
-}  // namespace
+} // namespace
 
 template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim>& d) {
   auto& p = sys.particles;
@@ -40,26 +43,31 @@ template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim
   // Which grains leave, and where to.
   std::vector<std::vector<double>> out(nranks);
   std::vector<std::size_t> leaving;
-  std::unordered_map<GlobalId, int> dest_of;  // leaving id -> destination
+  std::unordered_map<GlobalId, int> dest_of; // leaving id -> destination
   for (std::size_t i = 0; i < p.n_owned(); ++i) {
     p.position[i] = Cell<dim>::wrap(p.position[i]);
     int owner = d.owner_of(p.position[i]);
-    if (owner == d.rank()) continue;
+    if (owner == d.rank())
+      continue;
     leaving.push_back(i);
     dest_of.emplace(p.id[i], owner);
   }
   // Message per destination: [n_particles, particles..., contacts...]
   std::vector<std::vector<std::size_t>> by_dest(nranks);
-  for (std::size_t i : leaving) by_dest[dest_of[p.id[i]]].push_back(i);
+  for (std::size_t i : leaving)
+    by_dest[dest_of[p.id[i]]].push_back(i);
   for (int r = 0; r < nranks; ++r) {
-    if (by_dest[r].empty()) continue;
+    if (by_dest[r].empty())
+      continue;
     out[r].push_back(static_cast<double>(by_dest[r].size()));
-    for (std::size_t i : by_dest[r]) Packing<dim>::pack_particle(p, i, out[r]);
+    for (std::size_t i : by_dest[r])
+      Packing<dim>::pack_particle(p, i, out[r]);
   }
   if (!dest_of.empty()) {
     for (std::size_t k = 0; k < sys.contacts.size(); ++k) {
       auto it = dest_of.find(sys.contacts.key(k).first);
-      if (it == dest_of.end()) continue;
+      if (it == dest_of.end())
+        continue;
       Packing<dim>::pack_contact(sys.contacts.key(k), sys.contacts.state(k), out[it->second]);
     }
     sys.contacts.erase_if([&](const ContactKey& key, const ContactState<dim>&) {
@@ -73,11 +81,13 @@ template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim
   // optimisation for large rank counts, issue 8).
   const auto in = exchange(d.comm(), out);
   for (int r = 0; r < nranks; ++r) {
-    if (in[r].empty()) continue;
+    if (in[r].empty())
+      continue;
     const double* b = in[r].data();
     std::size_t pos = 0, end = in[r].size();
     auto n = static_cast<std::size_t>(b[pos++]);
-    for (std::size_t k = 0; k < n; ++k) p.add_owned(Packing<dim>::unpack_particle(b, pos));
+    for (std::size_t k = 0; k < n; ++k)
+      p.add_owned(Packing<dim>::unpack_particle(b, pos));
     while (pos < end) {
       ContactKey key;
       ContactState<dim> s;
@@ -87,7 +97,6 @@ template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim
   }
   return leaving.size();
 }
-
 
 template <int dim> void distribute(System<dim>& sys, const Decomposition<dim>& d) {
   migrate(sys, d);
@@ -100,15 +109,18 @@ template <int dim> void distribute(System<dim>& sys, const Decomposition<dim>& d
   auto reg = exchange(d.comm(), out);
   std::unordered_map<GlobalId, int> owner;
   for (int r = 0; r < nranks; ++r)
-    for (double id : reg[r]) owner.emplace(static_cast<GlobalId>(id), r);
+    for (double id : reg[r])
+      owner.emplace(static_cast<GlobalId>(id), r);
   // 2. Contacts go to the directory rank of their first grain, 3. which forwards them.
-  for (auto& o : out) o.clear();
+  for (auto& o : out)
+    o.clear();
   for (std::size_t k = 0; k < sys.contacts.size(); ++k)
     Packing<dim>::pack_contact(sys.contacts.key(k), sys.contacts.state(k),
                                out[directory_of(sys.contacts.key(k).first)]);
   sys.contacts.clear();
   auto at_directory = exchange(d.comm(), out);
-  for (auto& o : out) o.clear();
+  for (auto& o : out)
+    o.clear();
   std::int64_t orphans = 0;
   for (int r = 0; r < nranks; ++r) {
     std::size_t pos = 0;
@@ -144,4 +156,4 @@ template void distribute<3>(System<3>&, const Decomposition<3>&);
 template std::size_t migrate<2>(System<2>&, const Decomposition<2>&);
 template std::size_t migrate<3>(System<3>&, const Decomposition<3>&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -33,6 +33,8 @@ double linear_restitution(double zeta) {
   return std::exp(-zeta * std::numbers::pi / std::sqrt(1.0 - zeta * zeta));
 }
 
-double linear_critical_time_step(double k, double m_eff) { return 2.0 * std::sqrt(m_eff / k); }
+double linear_critical_time_step(double k, double m_eff) {
+  return 2.0 * std::sqrt(m_eff / k);
+}
 
-}  // namespace granpack
+} // namespace granpack

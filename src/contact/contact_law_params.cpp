@@ -9,9 +9,10 @@ namespace granpack {
 
 namespace {
 void require(bool ok, const char* what) {
-  if (!ok) throw InputError(std::string("contact law: ") + what);
+  if (!ok)
+    throw InputError(std::string("contact law: ") + what);
 }
-}  // namespace
+} // namespace
 
 template <int dim> ContactLaw<dim> make_contact_law(const ContactLawParams& p) {
   ContactLaw<dim> law;
@@ -46,7 +47,7 @@ template <int dim> ContactLaw<dim> make_contact_law(const ContactLawParams& p) {
   law.tangential.walton_rescaling = p.walton_rescaling;
   require(p.damping_ratio >= 0 && p.damping_ratio < 1, "damping ratio zeta must be in [0, 1)");
   law.damping = NormalDamping{p.damping_ratio};
-  require(p.friction >= 0, "friction coefficient mu must be >= 0 (inf allowed)");  // NaN fails
+  require(p.friction >= 0, "friction coefficient mu must be >= 0 (inf allowed)"); // NaN fails
   law.friction = CoulombFriction{p.friction};
   require(std::isfinite(p.cohesion_force) && p.cohesion_force >= 0,
           "cohesion force F0 must be finite and >= 0");
@@ -75,4 +76,4 @@ template <int dim> ContactLaw<dim> make_contact_law(const ContactLawParams& p) {
 template ContactLaw<2> make_contact_law<2>(const ContactLawParams&);
 template ContactLaw<3> make_contact_law<3>(const ContactLawParams&);
 
-}  // namespace granpack
+} // namespace granpack

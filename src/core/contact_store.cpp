@@ -23,7 +23,8 @@ std::size_t ContactStore<dim>::insert(const ContactKey& key, const ContactState<
 
 template <int dim> void ContactStore<dim>::erase(const ContactKey& key) {
   auto it = index_.find(key);
-  if (it == index_.end()) return;
+  if (it == index_.end())
+    return;
   std::size_t k = it->second, last = keys_.size() - 1;
   index_.erase(it);
   if (k != last) {
@@ -40,7 +41,8 @@ void ContactStore<dim>::erase_if(
     const std::function<bool(const ContactKey&, const ContactState<dim>&)>& pred) {
   std::size_t out = 0;
   for (std::size_t k = 0; k < keys_.size(); ++k) {
-    if (pred(keys_[k], states_[k])) continue;
+    if (pred(keys_[k], states_[k]))
+      continue;
     keys_[out] = keys_[k];
     states_[out] = states_[k];
     ++out;
@@ -48,7 +50,8 @@ void ContactStore<dim>::erase_if(
   keys_.resize(out);
   states_.resize(out);
   index_.clear();
-  for (std::size_t k = 0; k < out; ++k) index_.emplace(keys_[k], k);
+  for (std::size_t k = 0; k < out; ++k)
+    index_.emplace(keys_[k], k);
 }
 
 template <int dim>
@@ -65,7 +68,8 @@ void ContactStore<dim>::permute(const std::vector<std::size_t>& order, std::size
   }
   keys_.swap(keys);
   states_.swap(states);
-  for (std::size_t k = 0; k < keys_.size(); ++k) index_[keys_[k]] = k;
+  for (std::size_t k = 0; k < keys_.size(); ++k)
+    index_[keys_[k]] = k;
 }
 
 template <int dim> void ContactStore<dim>::reserve(std::size_t n) {
@@ -83,4 +87,4 @@ template <int dim> void ContactStore<dim>::clear() {
 template class ContactStore<2>;
 template class ContactStore<3>;
 
-}  // namespace granpack
+} // namespace granpack

@@ -3,19 +3,23 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <numeric>
 #include <numbers>
+#include <numeric>
 
 namespace granpack {
 
 template <> double HomogeneousGrain<3>::mass(double rho, double d) {
   return rho * std::numbers::pi * d * d * d / 6.0;
 }
-template <> double HomogeneousGrain<3>::inertia(double m, double d) { return m * d * d / 10.0; }
+template <> double HomogeneousGrain<3>::inertia(double m, double d) {
+  return m * d * d / 10.0;
+}
 template <> double HomogeneousGrain<2>::mass(double rho, double d) {
   return rho * std::numbers::pi * d * d / 4.0;
 }
-template <> double HomogeneousGrain<2>::inertia(double m, double d) { return m * d * d / 8.0; }
+template <> double HomogeneousGrain<2>::inertia(double m, double d) {
+  return m * d * d / 8.0;
+}
 
 template <int dim> void ParticleStore<dim>::reserve(std::size_t n) {
   id.reserve(n);
@@ -62,7 +66,9 @@ template <int dim> void ParticleStore<dim>::add_owned(const Particle<dim>& p) {
   ++n_owned_;
 }
 
-template <int dim> void ParticleStore<dim>::add_ghost(const Particle<dim>& p) { push(p); }
+template <int dim> void ParticleStore<dim>::add_ghost(const Particle<dim>& p) {
+  push(p);
+}
 
 template <int dim> Particle<dim> ParticleStore<dim>::get(std::size_t i) const {
   Particle<dim> p;
@@ -114,7 +120,8 @@ void ParticleStore<dim>::sort_owned_spatially(const std::array<std::size_t, dim>
     for (int a = 0; a < dim; ++a) {
       // Owned scaled positions are in [0, 1); the clamp only guards round-off at 1.
       const double s = position[i][a] - std::floor(position[i][a]);
-      const auto b = std::min(bins[a] - 1, static_cast<std::size_t>(s * static_cast<double>(bins[a])));
+      const auto b =
+          std::min(bins[a] - 1, static_cast<std::size_t>(s * static_cast<double>(bins[a])));
       k = k * bins[a] + b;
     }
     key[i] = k;
@@ -127,7 +134,8 @@ void ParticleStore<dim>::sort_owned_spatially(const std::array<std::size_t, dim>
   auto permute = [&](auto& v) {
     std::remove_reference_t<decltype(v)> out;
     out.reserve(v.size());
-    for (std::size_t k : order) out.push_back(v[k]);
+    for (std::size_t k : order)
+      out.push_back(v[k]);
     v.swap(out);
   };
   permute(id);
@@ -150,4 +158,4 @@ template <int dim> void ParticleStore<dim>::clear_forces() {
 template class ParticleStore<2>;
 template class ParticleStore<3>;
 
-}  // namespace granpack
+} // namespace granpack

@@ -11,12 +11,12 @@ void ContactForceLoop<dim>::bind(const ParticleStore<dim>& p, const VerletList<d
   store.erase_if([](const ContactKey&, const ContactState<dim>& s) { return s.age == 0; });
   slot_.assign(list.n_pairs(), -1);
   if (store.size() == 0) {
-    store.reserve(list.n_pairs());  // every contact until the next rebuild is a listed pair
+    store.reserve(list.n_pairs()); // every contact until the next rebuild is a listed pair
     return;
   }
   const auto& off = list.offsets();
   const auto& nb = list.neighbor_array();
-  std::size_t without = 0;  // listed pairs with no contact yet: the contacts that may form
+  std::size_t without = 0; // listed pairs with no contact yet: the contacts that may form
   for (std::size_t i = 0; i < list.n_owned(); ++i)
     for (std::size_t k = off[i]; k < off[i + 1]; ++k) {
       slot_[k] = store.find(ContactKey{p.id[i], p.id[nb[k]]});
@@ -29,7 +29,8 @@ void ContactForceLoop<dim>::bind(const ParticleStore<dim>& p, const VerletList<d
   order.reserve(store.size());
   std::vector<std::ptrdiff_t> moved(store.size(), -1);
   for (auto& s : slot_) {
-    if (s < 0) continue;
+    if (s < 0)
+      continue;
     if (moved[static_cast<std::size_t>(s)] < 0) {
       moved[static_cast<std::size_t>(s)] = static_cast<std::ptrdiff_t>(order.size());
       order.push_back(static_cast<std::size_t>(s));
@@ -37,7 +38,8 @@ void ContactForceLoop<dim>::bind(const ParticleStore<dim>& p, const VerletList<d
     s = moved[static_cast<std::size_t>(s)];
   }
   for (std::size_t k = 0; k < store.size(); ++k)
-    if (moved[k] < 0) order.push_back(k);
+    if (moved[k] < 0)
+      order.push_back(k);
   store.permute(order, store.size() + without);
 }
 
@@ -46,7 +48,7 @@ namespace {
 // compute_batched reads the particle arrays as x, y, z triples.
 static_assert(sizeof(Vec<3>) == 3 * sizeof(double) && sizeof(RotVec<3>) == 3 * sizeof(double));
 
-const ContactState<3> kNoContact{};  ///< read by a pair out of contact while no history exists
+const ContactState<3> kNoContact{}; ///< read by a pair out of contact while no history exists
 
 /// Evaluates listed pair (i, j) with the scalar contact law and adds its forces, torques and
 /// virial; `slot` is its contact in the store (inserted by the caller).
@@ -66,7 +68,8 @@ template <int dim>
   kin.w_i = p.angular_velocity[i];
   kin.w_j = p.angular_velocity[j];
   const ContactForces<dim> f = law.force(g, kin, st, dt);
-  if (!f.active) return;
+  if (!f.active)
+    return;
   p.force[j] += f.force_on_j;
   p.force[i] -= f.force_on_j;
   p.torque[i] += f.torque_i;
@@ -81,13 +84,14 @@ template <int dim>
     sums.max_overlap = std::max(sums.max_overlap, g.overlap / r_min);
 }
 
-}  // namespace
+} // namespace
 
 template <int dim>
 ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList<dim>& list,
                                               const ContactLaw<dim>& law, double dt) {
   if constexpr (dim == 3) {
-    if (const auto c = HertzMindlinConstants::of(law)) return compute_batched(sys, list, law, *c, dt);
+    if (const auto c = HertzMindlinConstants::of(law))
+      return compute_batched(sys, list, law, *c, dt);
   }
   auto& p = sys.particles;
   p.clear_forces();
@@ -106,7 +110,8 @@ ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList
       const double reach = ri + p.radius[j] + range;
       if (r_ij.squaredNorm() >= reach * reach) {
         // Out of reach: a contact that was there has ended; its history is forgotten.
-        if (slot_[k] >= 0) sys.contacts.state(static_cast<std::size_t>(slot_[k])) = ContactState<dim>{};
+        if (slot_[k] >= 0)
+          sys.contacts.state(static_cast<std::size_t>(slot_[k])) = ContactState<dim>{};
         continue;
       }
       if (slot_[k] < 0)
@@ -119,17 +124,16 @@ ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList
 }
 
 template <int dim>
-ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys,
-                                                      const VerletList<dim>& list,
+ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const VerletList<dim>& list,
                                                       const ContactLaw<dim>& law,
-                                                      const HertzMindlinConstants& c, double dt)
-  requires(dim == 3)
-{
+                                                      const HertzMindlinConstants& c,
+                                                      double dt) requires(dim == 3) {
   auto& p = sys.particles;
   p.clear_forces();
   ForceSums<dim> sums;
   HertzMindlinSums batch_sums;
-  if (!batch_) batch_ = std::make_unique<HertzMindlinBatch>();
+  if (!batch_)
+    batch_ = std::make_unique<HertzMindlinBatch>();
   HertzMindlinBatch& b = *batch_;
   constexpr std::size_t cap = HertzMindlinBatch::kCapacity;
   std::array<std::uint32_t, cap> lane_i{}, lane_j{};
@@ -141,7 +145,8 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys,
   // Evaluates the gathered lanes, then adds their forces and torques in lane (= list) order,
   // the same order as the scalar loop.
   auto flush = [&] {
-    if (n == 0) return;
+    if (n == 0)
+      return;
     evaluate(c, b, n, dt, batch_sums);
     // Raw pointers: the compiler then knows the arrays do not move during the loop.
     double* force = p.force.data()->data();
@@ -207,12 +212,12 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys,
         if (!touching) {
           // Out of reach: a contact that was there has ended; its history is forgotten.
           sys.contacts.state(static_cast<std::size_t>(slot)) = ContactState<3>{};
-          slot_[k] = slot = -1;  // (the entry is erased at the next compaction)
+          slot_[k] = slot = -1; // (the entry is erased at the next compaction)
         } else {
           slot = static_cast<std::ptrdiff_t>(
               sys.contacts.insert(ContactKey{p.id[i], p.id[j]}, ContactState<3>{}));
           slot_[k] = slot;
-          states = &sys.contacts.state(0);  // the store may have grown
+          states = &sys.contacts.state(0); // the store may have grown
         }
       }
       // A pair out of contact reads some valid history (its lane is discarded): index
@@ -221,22 +226,33 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys,
       // The histories lie in list order (bind()): fetch a few contacts ahead, which the
       // hardware prefetcher, busy with the batch's streams, does not always do.
       __builtin_prefetch(&st + 8);
-      b.rx[n] = rx; b.ry[n] = ry; b.rz[n] = rz;
-      b.rad_i[n] = ri; b.rad_j[n] = rj;
-      b.mass_i[n] = mi; b.mass_j[n] = mass[j];
+      b.rx[n] = rx;
+      b.ry[n] = ry;
+      b.rz[n] = rz;
+      b.rad_i[n] = ri;
+      b.rad_j[n] = rj;
+      b.mass_i[n] = mi;
+      b.mass_j[n] = mass[j];
       // Relative velocity, with the affine part of the cell deformation Ldot (s_j - s_i).
       b.vx[n] = (vel[3 * j] + Ldx * dsx) - vix;
       b.vy[n] = (vel[3 * j + 1] + Ldy * dsy) - viy;
       b.vz[n] = (vel[3 * j + 2] + Ldz * dsz) - viz;
-      b.wix[n] = wix; b.wiy[n] = wiy; b.wiz[n] = wiz;
-      b.wjx[n] = spin[3 * j]; b.wjy[n] = spin[3 * j + 1]; b.wjz[n] = spin[3 * j + 2];
-      b.tx[n] = st.tangential_force[0]; b.ty[n] = st.tangential_force[1]; b.tz[n] = st.tangential_force[2];
+      b.wix[n] = wix;
+      b.wiy[n] = wiy;
+      b.wiz[n] = wiz;
+      b.wjx[n] = spin[3 * j];
+      b.wjy[n] = spin[3 * j + 1];
+      b.wjz[n] = spin[3 * j + 2];
+      b.tx[n] = st.tangential_force[0];
+      b.ty[n] = st.tangential_force[1];
+      b.tz[n] = st.tangential_force[2];
       b.n_old[n] = st.normal_force;
       lane_i[n] = static_cast<std::uint32_t>(i);
       lane_j[n] = static_cast<std::uint32_t>(j);
       lane_slot[n] = static_cast<std::size_t>(slot);
       n += touching ? 1 : 0;
-      if (n == cap) flush();
+      if (n == cap)
+        flush();
     }
   }
   flush();
@@ -252,31 +268,32 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys,
 
 template <int dim>
 void ContactForceLoop<dim>::elastic_forces(const System<dim>& sys, const VerletList<dim>& list,
-                                           const ContactLaw<dim>& law,
-                                           std::vector<Vec<dim>>& out,
+                                           const ContactLaw<dim>& law, std::vector<Vec<dim>>& out,
                                            std::vector<RotVec<dim>>* moments) const {
   out.assign(sys.particles.size(), Vec<dim>::Zero());
-  if (moments) moments->assign(sys.particles.size(), RotVec<dim>::Zero());
+  if (moments)
+    moments->assign(sys.particles.size(), RotVec<dim>::Zero());
   const auto& radius = sys.particles.radius;
   const double k_r = law.rolling ? law.rolling->k_r : 0.0;
-  for_each_contact(sys, list, [&](std::size_t i, std::size_t j, const Vec<dim>& r,
-                                  const ContactState<dim>& st) {
-    const double d = r.norm();
-    const double h = radius[i] + radius[j] - d;
-    const Vec<dim> n = r / d;
-    const Vec<dim> f = (st.normal_force + law.attraction(h)) * n + st.tangential_force;
-    out[j] += f;
-    out[i] -= f;
-    if (!moments) return;
-    // Branch vectors to the middle of the overlap, as in ContactLaw::force (for a distant
-    // pair f is along n and its moments vanish whatever the branch).
-    const RotVec<dim> gamma = -k_r * st.rolling;  // rolling moment on j
-    (*moments)[j] += moment<dim>(Vec<dim>(-contact_arm(radius[j], h) * n), f) + gamma;
-    (*moments)[i] += moment<dim>(Vec<dim>(contact_arm(radius[i], h) * n), Vec<dim>(-f)) - gamma;
-  });
+  for_each_contact(
+      sys, list, [&](std::size_t i, std::size_t j, const Vec<dim>& r, const ContactState<dim>& st) {
+        const double d = r.norm();
+        const double h = radius[i] + radius[j] - d;
+        const Vec<dim> n = r / d;
+        const Vec<dim> f = (st.normal_force + law.attraction(h)) * n + st.tangential_force;
+        out[j] += f;
+        out[i] -= f;
+        if (!moments)
+          return;
+        // Branch vectors to the middle of the overlap, as in ContactLaw::force (for a distant
+        // pair f is along n and its moments vanish whatever the branch).
+        const RotVec<dim> gamma = -k_r * st.rolling; // rolling moment on j
+        (*moments)[j] += moment<dim>(Vec<dim>(-contact_arm(radius[j], h) * n), f) + gamma;
+        (*moments)[i] += moment<dim>(Vec<dim>(contact_arm(radius[i], h) * n), Vec<dim>(-f)) - gamma;
+      });
 }
 
 template class ContactForceLoop<2>;
 template class ContactForceLoop<3>;
 
-}  // namespace granpack
+} // namespace granpack

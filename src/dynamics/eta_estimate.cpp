@@ -13,9 +13,11 @@ double EtaEstimate::worst_ratio(const EquilibriumMeasure& m) const {
 
 std::optional<double> EtaEstimate::update_steps(const EquilibriumMeasure& m, std::int64_t step) {
   const double r = worst_ratio(m);
-  if (!(r > 0) || !std::isfinite(r)) return std::nullopt;
+  if (!(r > 0) || !std::isfinite(r))
+    return std::nullopt;
   const double lr = std::log(r);
-  if (!first_step_) first_step_ = step;
+  if (!first_step_)
+    first_step_ = step;
   if (prev_log_ratio_ && step > prev_step_) {
     const double rate = (lr - *prev_log_ratio_) / double(step - prev_step_);
     // Smoothing: the criteria fluctuate from one line to the next.
@@ -23,22 +25,26 @@ std::optional<double> EtaEstimate::update_steps(const EquilibriumMeasure& m, std
   }
   prev_log_ratio_ = lr;
   prev_step_ = step;
-  if (r <= 1) return 0.0;
-  if (!rate_ || *rate_ >= 0) return std::nullopt;
+  if (r <= 1)
+    return 0.0;
+  if (!rate_ || *rate_ >= 0)
+    return std::nullopt;
   const double steps = lr / -*rate_;
   const double history = double(std::max<std::int64_t>(step - *first_step_, 1));
-  if (steps > kMaxExtrapolation * history) return std::nullopt;
+  if (steps > kMaxExtrapolation * history)
+    return std::nullopt;
   return steps;
 }
 
-std::string EtaEstimate::update(const EquilibriumMeasure& m, std::int64_t step,
-                                double steps_per_s, std::int64_t last_step) {
+std::string EtaEstimate::update(const EquilibriumMeasure& m, std::int64_t step, double steps_per_s,
+                                std::int64_t last_step) {
   std::optional<double> steps = update_steps(m, step);
   if (last_step >= 0) {
     const double bound = double(std::max<std::int64_t>(last_step - step, 0));
     steps = steps ? std::min(*steps, bound) : bound;
   }
-  if (!steps || !(steps_per_s > 0)) return "  ETA -";
+  if (!steps || !(steps_per_s > 0))
+    return "  ETA -";
   return "  ETA " + human_duration(*steps / steps_per_s);
 }
 
@@ -55,4 +61,4 @@ std::string human_duration(double seconds) {
   return buf;
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -26,8 +26,10 @@ constexpr double kStallPath = 1e-12;
 constexpr int kStallWindows = 3;
 
 template <int dim> double ball_volume(double r) {
-  if constexpr (dim == 3) return 4.0 / 3.0 * std::numbers::pi * r * r * r;
-  else return std::numbers::pi * r * r;
+  if constexpr (dim == 3)
+    return 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  else
+    return std::numbers::pi * r * r;
 }
 
 /// x wrapped into [0, l).
@@ -42,11 +44,13 @@ double wrap(double x, double l) {
 /// rejected b >= 0 && a >= 0 (never closer). `dr_norm_rate` is r.v - |r| sigma' (the rate of
 /// the gap |r| - sigma, times |r|), used only when the pair touches or overlaps (c <= 0).
 inline double first_contact(double a, double b, double c, double dr_norm_rate) {
-  if (c <= 0.0) return dr_norm_rate < 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
+  if (c <= 0.0)
+    return dr_norm_rate < 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
   const double disc = b * b - a * c;
   if (b < 0.0) {
-    if (disc < 0.0) return std::numeric_limits<double>::infinity(); // a > 0: misses
-    return c / (-b + std::sqrt(disc));                               // no cancellation
+    if (disc < 0.0)
+      return std::numeric_limits<double>::infinity(); // a > 0: misses
+    return c / (-b + std::sqrt(disc));                // no cancellation
   }
   // b >= 0 and a < 0: growth overtakes the separation; disc > b^2 > 0.
   return (b + std::sqrt(disc)) / (-a);
@@ -84,7 +88,8 @@ HardSphereMD<dim>::HardSphereMD(const Vec<dim>& box, std::vector<Vec<dim>> posit
     GRANPACK_CHECK(positions[i].allFinite() && velocities[i].allFinite(),
                    "HardSphereMD: non-finite position or velocity of particle " << i);
     State& s = st_[i];
-    for (int a = 0; a < dim; ++a) s.x[a] = wrap(positions[i][a], box_[a]);
+    for (int a = 0; a < dim; ++a)
+      s.x[a] = wrap(positions[i][a], box_[a]);
     s.t = 0;
     s.v = velocities[i];
     s.rb = radii[i];
@@ -94,8 +99,8 @@ HardSphereMD<dim>::HardSphereMD(const Vec<dim>& box, std::vector<Vec<dim>> posit
   for (int a = 0; a < dim; ++a)
     GRANPACK_CHECK(0.5 * box_[a] > 2 * rmax * (1 + 2 * kCellMargin),
                    "HardSphereMD: box length " << box_[a] << " along axis " << a
-                                               << " must exceed two largest diameters ("
-                                               << 4 * rmax << ")");
+                                               << " must exceed two largest diameters (" << 4 * rmax
+                                               << ")");
   count_.assign(n, 0);
   slots_.assign(n, Slot{});
   out_pos_.resize(n);
@@ -105,35 +110,39 @@ HardSphereMD<dim>::HardSphereMD(const Vec<dim>& box, std::vector<Vec<dim>> posit
 
   int pi = -1, pj = -1;
   const double gap = min_gap_pair(&pi, &pj);
-  GRANPACK_CHECK(gap >= -kOverlapTol, "HardSphereMD: particles "
-                                          << pi << " and " << pj << " overlap by "
-                                          << -gap << " of the sum of their radii");
+  GRANPACK_CHECK(gap >= -kOverlapTol, "HardSphereMD: particles " << pi << " and " << pj
+                                                                 << " overlap by " << -gap
+                                                                 << " of the sum of their radii");
   k_track_ = kinetic_energy();
   sync_output();
 }
 
 template <int dim> double HardSphereMD<dim>::kinetic_energy() const {
   double k = 0;
-  for (std::size_t i = 0; i < st_.size(); ++i) k += 0.5 * mass_[i] * st_[i].v.squaredNorm();
+  for (std::size_t i = 0; i < st_.size(); ++i)
+    k += 0.5 * mass_[i] * st_[i].v.squaredNorm();
   return k;
 }
 
 template <int dim> Vec<dim> HardSphereMD<dim>::momentum() const {
   Vec<dim> p = Vec<dim>::Zero();
-  for (std::size_t i = 0; i < st_.size(); ++i) p += mass_[i] * st_[i].v;
+  for (std::size_t i = 0; i < st_.size(); ++i)
+    p += mass_[i] * st_[i].v;
   return p;
 }
 
 template <int dim> double HardSphereMD<dim>::solid_fraction() const {
   double v = 0;
-  for (const State& s : st_) v += ball_volume<dim>(s.rb * g_now_);
+  for (const State& s : st_)
+    v += ball_volume<dim>(s.rb * g_now_);
   return v / box_.prod();
 }
 
 template <int dim> double HardSphereMD<dim>::pressure() const {
   const double vol = box_.prod();
   const double t_acc = t_now_ - t_press0_;
-  if (!(t_acc > 0)) return 2 * kinetic_energy() / (dim * vol);
+  if (!(t_acc > 0))
+    return 2 * kinetic_energy() / (dim * vol);
   const double kin = kin_integral_ + k_track_ * (t_now_ - t_kin_);
   return (2 * kin + virial_) / (dim * vol * t_acc);
 }
@@ -160,7 +169,8 @@ template <int dim> double HardSphereMD<dim>::min_gap_pair(int* pi, int* pj) cons
       const std::int32_t* mem = &members_[static_cast<std::size_t>(c) * cap_];
       for (int m = 0; m < count_in_[c]; ++m) {
         const int k = mem[m];
-        if (k <= i) continue;
+        if (k <= i)
+          continue;
         const State& sk = st_[k];
         Vec<dim> dr = sk.x + (t_now_ - sk.t) * sk.v - xi;
         min_image(dr);
@@ -168,8 +178,10 @@ template <int dim> double HardSphereMD<dim>::min_gap_pair(int* pi, int* pj) cons
         const double gap = (dr.norm() - sig) / sig;
         if (gap < worst) {
           worst = gap;
-          if (pi) *pi = i;
-          if (pj) *pj = k;
+          if (pi)
+            *pi = i;
+          if (pj)
+            *pj = k;
         }
       }
     });
@@ -181,7 +193,8 @@ template <int dim> void HardSphereMD<dim>::sync_output() {
   for (std::size_t i = 0; i < st_.size(); ++i) {
     const State& s = st_[i];
     const Vec<dim> x = s.x + (t_now_ - s.t) * s.v;
-    for (int a = 0; a < dim; ++a) out_pos_[i][a] = wrap(x[a], box_[a]);
+    for (int a = 0; a < dim; ++a)
+      out_pos_[i][a] = wrap(x[a], box_[a]);
     out_vel_[i] = s.v;
     out_radii_[i] = s.rb * g_now_;
   }
@@ -192,15 +205,18 @@ template <int dim> void HardSphereMD<dim>::sync_output() {
 
 template <int dim> void HardSphereMD<dim>::min_image(Vec<dim>& d) const {
   for (int a = 0; a < dim; ++a) {
-    if (d[a] > half_box_[a]) d[a] -= box_[a];
-    else if (d[a] < -half_box_[a]) d[a] += box_[a];
+    if (d[a] > half_box_[a])
+      d[a] -= box_[a];
+    else if (d[a] < -half_box_[a])
+      d[a] += box_[a];
   }
 }
 
 template <int dim> int HardSphereMD<dim>::flat(const std::array<int, dim>& c) const {
   int f = 0;
   for (int a = 0; a < dim; ++a)
-    if (real_[a]) f += stride_[a] * c[a];
+    if (real_[a])
+      f += stride_[a] * c[a];
   return f;
 }
 
@@ -229,13 +245,13 @@ template <int dim> void HardSphereMD<dim>::build_cells(double d_allow) {
       all_real = false;
       const double room = 0.5 * box_[a] - d_cell;
       GRANPACK_CHECK(room > 0, "HardSphereMD: box length " << box_[a] << " along axis " << a
-                                                         << " is not larger than two diameters ("
-                                                         << 2 * d_allow << ")");
+                                                           << " is not larger than two diameters ("
+                                                           << 2 * d_allow << ")");
       const double slabs = std::ceil(box_[a] / (0.5 * room));
-      GRANPACK_CHECK(slabs < 1e8, "HardSphereMD: box length "
-                                      << box_[a] << " along axis " << a
-                                      << " is too close to two diameters (" << 2 * d_allow
-                                      << ") for the all-pairs fallback");
+      GRANPACK_CHECK(slabs < 1e8, "HardSphereMD: box length " << box_[a] << " along axis " << a
+                                                              << " is too close to two diameters ("
+                                                              << 2 * d_allow
+                                                              << ") for the all-pairs fallback");
       ncross_[a] = static_cast<int>(slabs);
       cw_[a] = box_[a] / ncross_[a];
       stride_[a] = 0;
@@ -245,7 +261,8 @@ template <int dim> void HardSphereMD<dim>::build_cells(double d_allow) {
   d_lim_ = d_allow;
   if (all_real) {
     d_lim_ = kInf;
-    for (int a = 0; a < dim; ++a) d_lim_ = std::min(d_lim_, cw_[a] / (1 + kCellMargin));
+    for (int a = 0; a < dim; ++a)
+      d_lim_ = std::min(d_lim_, cw_[a] / (1 + kCellMargin));
   }
   cap_ = 8;
   count_in_.assign(static_cast<std::size_t>(total), 0);
@@ -266,7 +283,8 @@ template <int dim> void HardSphereMD<dim>::build_cells(double d_allow) {
 }
 
 template <int dim> void HardSphereMD<dim>::cell_insert(int i, int c) {
-  if (count_in_[c] == cap_) grow_cell_capacity();
+  if (count_in_[c] == cap_)
+    grow_cell_capacity();
   const int m = count_in_[c]++;
   members_[static_cast<std::size_t>(c) * cap_ + m] = i;
   cell_of_[i] = c;
@@ -296,8 +314,8 @@ template <int dim> void HardSphereMD<dim>::grow_cell_capacity() {
 /// the all-pairs axes); along `fixed_axis` (if >= 0) only the layer at `fixed_coord`.
 template <int dim>
 template <class F>
-void HardSphereMD<dim>::for_stencil(const std::array<int, dim>& c, int fixed_axis,
-                                    int fixed_coord, F&& f) const {
+void HardSphereMD<dim>::for_stencil(const std::array<int, dim>& c, int fixed_axis, int fixed_coord,
+                                    F&& f) const {
   std::array<std::array<int, 3>, dim> off;
   std::array<int, dim> cnt;
   for (int a = 0; a < dim; ++a) {
@@ -317,11 +335,13 @@ void HardSphereMD<dim>::for_stencil(const std::array<int, dim>& c, int fixed_axi
   }
   if constexpr (dim == 2) {
     for (int j = 0; j < cnt[1]; ++j)
-      for (int i = 0; i < cnt[0]; ++i) f(off[0][i] + off[1][j]);
+      for (int i = 0; i < cnt[0]; ++i)
+        f(off[0][i] + off[1][j]);
   } else {
     for (int k = 0; k < cnt[2]; ++k)
       for (int j = 0; j < cnt[1]; ++j)
-        for (int i = 0; i < cnt[0]; ++i) f(off[0][i] + off[1][j] + off[2][k]);
+        for (int i = 0; i < cnt[0]; ++i)
+          f(off[0][i] + off[1][j] + off[2][k]);
   }
 }
 
@@ -341,7 +361,8 @@ double HardSphereMD<dim>::pair_time(const Vec<dim>& xi, const Vec<dim>& vi, doub
   const double rv = dr.dot(dv);
   const double b = rv - sig * sigd;
   const double a = dv.squaredNorm() - sigd * sigd;
-  if (b >= 0.0 && a >= 0.0) return kInf;
+  if (b >= 0.0 && a >= 0.0)
+    return kInf;
   const double r2 = dr.squaredNorm();
   const double c = r2 - sig * sig;
   const double touch_rate = c <= 0.0 ? rv - std::sqrt(r2) * sigd : 0.0;
@@ -363,7 +384,8 @@ template <int dim> double HardSphereMD<dim>::crossing_time(int i, std::int32_t& 
     } else {
       continue;
     }
-    if (dt < 0) dt = 0;
+    if (dt < 0)
+      dt = 0;
     if (dt < best) {
       best = dt;
       cross = 2 * a + (v > 0 ? 1 : 0);
@@ -397,8 +419,8 @@ int HardSphereMD<dim>::gather(const std::array<int, dim>& c, int fixed_axis, int
 /// minimum image, would stall on store forwarding.
 template <int dim>
 template <bool growing>
-void HardSphereMD<dim>::best_collision(const Vec<dim>& xi, const Vec<dim>& vi, double rbi,
-                                       int n, double& best, int& partner) const {
+void HardSphereMD<dim>::best_collision(const Vec<dim>& xi, const Vec<dim>& vi, double rbi, int n,
+                                       double& best, int& partner) const {
   const std::int32_t* cand = cand_.data();
   const double g = g_now_, rate = rate_, t_now = t_now_;
   double x0[dim], v0[dim], h[dim], l[dim];
@@ -426,21 +448,26 @@ void HardSphereMD<dim>::best_collision(const Vec<dim>& xi, const Vec<dim>& vi, d
     const double sig = rsum * g;
     double dt;
     if constexpr (!growing) {
-      if (rv >= 0.0) continue;
+      if (rv >= 0.0)
+        continue;
       const double c = r2 - sig * sig;
-      if (c > -2.0 * rv * (t_best - t_now)) continue;
+      if (c > -2.0 * rv * (t_best - t_now))
+        continue;
       // disc < 0: the pair misses. Else t = c / (-b + sqrt(disc)), which is <= 0, i.e. now,
       // for a touching or slightly overlapping pair.
       const double disc = rv * rv - v2 * c;
-      if (disc < 0.0) continue;
+      if (disc < 0.0)
+        continue;
       dt = std::max(c / (std::sqrt(disc) - rv), 0.0);
     } else {
       const double sigd = rsum * rate;
       const double b = rv - sig * sigd;
       const double a = v2 - sigd * sigd;
-      if (b >= 0.0 && a >= 0.0) continue;
+      if (b >= 0.0 && a >= 0.0)
+        continue;
       const double c = r2 - sig * sig;
-      if (a >= 0.0 && c > -2.0 * b * (t_best - t_now)) continue; // disc <= b^2 here
+      if (a >= 0.0 && c > -2.0 * b * (t_best - t_now))
+        continue; // disc <= b^2 here
       dt = first_contact(a, b, c, c <= 0.0 ? rv - std::sqrt(r2) * sigd : 0.0);
     }
     if (t_now + dt < t_best) {
@@ -460,8 +487,10 @@ template <int dim> void HardSphereMD<dim>::scan_full(int i) {
   const int n = gather(cc_[i], -1, 0, i);
   double best = kInf;
   int partner = -1;
-  if (rate_ != 0.0) best_collision<true>(xi, si.v, si.rb, n, best, partner);
-  else best_collision<false>(xi, si.v, si.rb, n, best, partner);
+  if (rate_ != 0.0)
+    best_collision<true>(xi, si.v, si.rb, n, best, partner);
+  else
+    best_collision<false>(xi, si.v, si.rb, n, best, partner);
   Slot& s = slots_[i];
   s.t_coll = best;
   s.partner = partner;
@@ -475,8 +504,10 @@ template <int dim> void HardSphereMD<dim>::scan_slab(int i, int axis, int coord)
   Slot& s = slots_[i];
   double best = s.t_coll;
   int partner = -1;
-  if (rate_ != 0.0) best_collision<true>(xi, si.v, si.rb, n, best, partner);
-  else best_collision<false>(xi, si.v, si.rb, n, best, partner);
+  if (rate_ != 0.0)
+    best_collision<true>(xi, si.v, si.rb, n, best, partner);
+  else
+    best_collision<false>(xi, si.v, si.rb, n, best, partner);
   if (partner >= 0) {
     s.t_coll = best;
     s.partner = partner;
@@ -501,7 +532,8 @@ template <int dim> void HardSphereMD<dim>::predict_all() {
       const std::int32_t* mem = &members_[static_cast<std::size_t>(c) * cap_];
       for (int m = 0; m < count_in_[c]; ++m) {
         const int k = mem[m];
-        if (k <= i) continue;
+        if (k <= i)
+          continue;
         const double t = pair_time(xi, si.v, si.rb, k);
         if (t < s.t_coll) {
           s.t_coll = t;
@@ -532,14 +564,16 @@ template <int dim> void HardSphereMD<dim>::heap_build() {
     heap_[p] = HeapNode{key(static_cast<int>(p)), static_cast<std::int32_t>(p)};
     where_[p] = static_cast<std::int32_t>(p);
   }
-  for (std::size_t p = n / 2; p-- > 0;) sift_down(p);
+  for (std::size_t p = n / 2; p-- > 0;)
+    sift_down(p);
 }
 
 template <int dim> void HardSphereMD<dim>::sift_up(std::size_t p) {
   const HeapNode node = heap_[p];
   while (p > 0) {
     const std::size_t parent = (p - 1) / 2;
-    if (!(node.t < heap_[parent].t)) break;
+    if (!(node.t < heap_[parent].t))
+      break;
     heap_[p] = heap_[parent];
     where_[heap_[p].id] = static_cast<std::int32_t>(p);
     p = parent;
@@ -553,9 +587,12 @@ template <int dim> void HardSphereMD<dim>::sift_down(std::size_t p) {
   const std::size_t n = heap_.size();
   for (;;) {
     std::size_t m = 2 * p + 1;
-    if (m >= n) break;
-    if (m + 1 < n && heap_[m + 1].t < heap_[m].t) ++m;
-    if (!(heap_[m].t < node.t)) break;
+    if (m >= n)
+      break;
+    if (m + 1 < n && heap_[m + 1].t < heap_[m].t)
+      ++m;
+    if (!(heap_[m].t < node.t))
+      break;
     heap_[p] = heap_[m];
     where_[heap_[p].id] = static_cast<std::int32_t>(p);
     p = m;
@@ -569,8 +606,10 @@ template <int dim> void HardSphereMD<dim>::heap_update(int i) {
   const double t = key(i);
   const double old = heap_[p].t;
   heap_[p].t = t;
-  if (t < old) sift_up(p);
-  else sift_down(p);
+  if (t < old)
+    sift_up(p);
+  else
+    sift_down(p);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -583,7 +622,8 @@ template <int dim> void HardSphereMD<dim>::move_to_now(int i) {
 }
 
 template <int dim> void HardSphereMD<dim>::move_all_to_now() {
-  for (int i = 0; i < static_cast<int>(st_.size()); ++i) move_to_now(i);
+  for (int i = 0; i < static_cast<int>(st_.size()); ++i)
+    move_to_now(i);
 }
 
 template <int dim> void HardSphereMD<dim>::process_crossing(int i) {
@@ -630,7 +670,8 @@ template <int dim> void HardSphereMD<dim>::process_collision(int i, int j) {
   const double sigd = (si.rb + sj.rb) * rate_;
   // Reflect the normal velocity relative to the growing contact: vn' - sigd = -(vn - sigd).
   double dvn = 2 * (sigd - vn);
-  if (!(dvn > 0)) dvn = 0; // grazing within round-off: nothing to transfer
+  if (!(dvn > 0))
+    dvn = 0; // grazing within round-off: nothing to transfer
   const double mi = mass_[i], mj = mass_[j];
   const double impulse = dvn / (inv_mass_[i] + inv_mass_[j]);
   const double k_before = 0.5 * (mi * si.v.squaredNorm() + mj * sj.v.squaredNorm());
@@ -653,11 +694,13 @@ template <int dim> void HardSphereMD<dim>::process_collision(int i, int j) {
 
 /// Processes events in time order up to t_stop (inclusive) or until max_collisions
 /// collisions; returns the number of collisions. The clock is left at the last event.
-template <int dim> std::int64_t HardSphereMD<dim>::advance(double t_stop, std::int64_t max_collisions) {
+template <int dim>
+std::int64_t HardSphereMD<dim>::advance(double t_stop, std::int64_t max_collisions) {
   std::int64_t done = 0;
   while (done < max_collisions) {
     const HeapNode top = heap_[0];
-    if (!(top.t <= t_stop) || top.t == kInf) break;
+    if (!(top.t <= t_stop) || top.t == kInf)
+      break;
     set_time(top.t);
     const int i = top.id;
     const Slot& s = slots_[i];
@@ -675,7 +718,8 @@ template <int dim> std::int64_t HardSphereMD<dim>::advance(double t_stop, std::i
 }
 
 template <int dim> void HardSphereMD<dim>::ensure_calendar() {
-  if (!calendar_ok_) predict_all();
+  if (!calendar_ok_)
+    predict_all();
 }
 
 // ---------------------------------------------------------------------------------------
@@ -717,16 +761,17 @@ void HardSphereMD<dim>::begin_growth(double phi_target, double rate, double resc
   const double phi0 = solid_fraction();
   GRANPACK_CHECK(std::isfinite(phi_target) && phi_target >= phi0,
                  "HardSphereMD::grow: target solid fraction " << phi_target
-                                                              << " is below the current "
-                                                              << phi0);
+                                                              << " is below the current " << phi0);
   growth_ = Growth{};
-  if (phi_target == phi0) return;
+  if (phi_target == phi0)
+    return;
   Growth& g = growth_;
   g.phi_target = phi_target;
   g.k0 = kinetic_energy();
   GRANPACK_CHECK(g.k0 > 0, "HardSphereMD::grow: the grains are at rest (kinetic energy 0)");
   g.g_end = std::pow(phi_target / phi0, 1.0 / dim);
-  for (const State& s : st_) g.rb_max = std::max(g.rb_max, s.rb);
+  for (const State& s : st_)
+    g.rb_max = std::max(g.rb_max, s.rb);
   g.d_final = 2 * g.rb_max * g.g_end;
   for (int a = 0; a < dim; ++a)
     GRANPACK_CHECK(0.5 * box_[a] > g.d_final * (1 + 2 * kCellMargin),
@@ -758,7 +803,8 @@ void HardSphereMD<dim>::begin_growth(double phi_target, double rate, double resc
 /// Back to fixed radii rb g at the current time.
 template <int dim> void HardSphereMD<dim>::growth_freeze(double g) {
   move_all_to_now();
-  for (State& s : st_) s.rb *= g;
+  for (State& s : st_)
+    s.rb *= g;
   rate_ = 0;
   t0_ = t_now_;
   g_now_ = 1.0;
@@ -785,9 +831,9 @@ bool HardSphereMD<dim>::continue_growth(std::int64_t max_collisions,
     // The grid holds while the largest diameter 2 rb_max g(t) <= d_lim_.
     const double t_lim = d_lim_ == kInf ? kInf : t0_ + (d_lim_ / (2 * g.rb_max) - 1.0) / rate_;
     const double t_stop = std::min(t_lim, g.t_end);
-    const std::int64_t batch = std::min({g.rescale_n - g.since_rescale,
-                                         g.progress_n - g.since_progress, n - g.since_window,
-                                         budget});
+    const std::int64_t batch =
+        std::min({g.rescale_n - g.since_rescale, g.progress_n - g.since_progress,
+                  n - g.since_window, budget});
     const std::int64_t done = advance(t_stop, batch);
     budget -= done;
     g.since_rescale += done;
@@ -798,7 +844,8 @@ bool HardSphereMD<dim>::continue_growth(std::int64_t max_collisions,
       const double k = kinetic_energy();
       if (k > 0) {
         const double f = std::sqrt(g.k0 / k);
-        for (State& s : st_) s.v *= f;
+        for (State& s : st_)
+          s.v *= f;
       }
       accumulate_kinetic();
       k_track_ = kinetic_energy();

@@ -31,10 +31,12 @@ public:
   }
   template <class T> void vec(const std::vector<T>& v) {
     pod(static_cast<std::uint64_t>(v.size()));
-    for (const T& x : v) pod(x);
+    for (const T& x : v)
+      pod(x);
   }
   template <int n> void vec(const Vec<n>& v) {
-    for (int a = 0; a < n; ++a) pod(v[a]);
+    for (int a = 0; a < n; ++a)
+      pod(v[a]);
   }
   std::vector<std::uint8_t> out;
 };
@@ -44,7 +46,8 @@ public:
   explicit Reader(const std::vector<std::uint8_t>& in) : in_(in) {}
   template <class T> T pod() {
     static_assert(std::is_trivially_copyable_v<T>);
-    if (in_.size() - pos_ < sizeof(T)) fail("it ends early");
+    if (in_.size() - pos_ < sizeof(T))
+      fail("it ends early");
     T v;
     std::memcpy(&v, in_.data() + pos_, sizeof(T));
     pos_ += sizeof(T);
@@ -57,12 +60,14 @@ public:
         n > (in_.size() - pos_) / sizeof(T))
       fail(std::string(what) + " has " + std::to_string(n) + " entries");
     std::vector<T> v(static_cast<std::size_t>(n));
-    for (auto& x : v) x = pod<T>();
+    for (auto& x : v)
+      x = pod<T>();
     return v;
   }
   template <int n> Vec<n> vecd() {
     Vec<n> v;
-    for (int a = 0; a < n; ++a) v[a] = pod<double>();
+    for (int a = 0; a < n; ++a)
+      v[a] = pod<double>();
     return v;
   }
   bool at_end() const { return pos_ == in_.size(); }
@@ -75,13 +80,16 @@ private:
   std::size_t pos_ = 0;
 };
 
-bool in_range(std::int64_t v, std::int64_t lo, std::int64_t hi) { return v >= lo && v < hi; }
+bool in_range(std::int64_t v, std::int64_t lo, std::int64_t hi) {
+  return v >= lo && v < hi;
+}
 
-}  // namespace
+} // namespace
 
 template <int dim> std::vector<std::uint8_t> HardSphereMD<dim>::save_state() const {
   Writer w;
-  for (char c : kMagic) w.pod(c);
+  for (char c : kMagic)
+    w.pod(c);
   w.pod(static_cast<std::int32_t>(dim));
   w.vec(box_);
   w.pod(static_cast<std::uint64_t>(st_.size()));
@@ -105,7 +113,8 @@ template <int dim> std::vector<std::uint8_t> HardSphereMD<dim>::save_state() con
   w.vec(count_in_);
   // Only the occupied member slots: their order within a cell matters, the rest is unused.
   for (std::size_t c = 0; c < count_in_.size(); ++c)
-    for (int m = 0; m < count_in_[c]; ++m) w.pod(members_[c * cap_ + m]);
+    for (int m = 0; m < count_in_[c]; ++m)
+      w.pod(members_[c * cap_ + m]);
   w.vec(cell_of_);
   w.vec(slot_in_cell_);
   w.vec(cc_);
@@ -128,8 +137,10 @@ template <int dim>
 HardSphereMD<dim> HardSphereMD<dim>::restore_state(const std::vector<std::uint8_t>& state) {
   Reader r(state);
   for (char c : kMagic)
-    if (r.pod<char>() != c) Reader::fail("wrong signature");
-  if (r.pod<std::int32_t>() != dim) Reader::fail("saved by an engine of another dimension");
+    if (r.pod<char>() != c)
+      Reader::fail("wrong signature");
+  if (r.pod<std::int32_t>() != dim)
+    Reader::fail("saved by an engine of another dimension");
   HardSphereMD md;
   md.box_ = r.vecd<dim>();
   md.half_box_ = 0.5 * md.box_;
@@ -147,7 +158,8 @@ HardSphereMD<dim> HardSphereMD<dim>::restore_state(const std::vector<std::uint8_
   }
   md.mass_ = r.vec<double>(n, "the mass array");
   md.inv_mass_.resize(md.mass_.size());
-  for (std::size_t i = 0; i < md.mass_.size(); ++i) md.inv_mass_[i] = 1.0 / md.mass_[i];
+  for (std::size_t i = 0; i < md.mass_.size(); ++i)
+    md.inv_mass_[i] = 1.0 / md.mass_[i];
   md.count_ = r.vec<std::uint64_t>(n, "the collision counters");
   md.slots_ = r.vec<Slot>(n, "the calendar slots");
   // The calendar is built by the first run (empty before it).
@@ -164,24 +176,30 @@ HardSphereMD<dim> HardSphereMD<dim>::restore_state(const std::vector<std::uint8_
   md.cap_ = r.pod<std::int32_t>();
   std::int64_t cells = 1;
   for (int a = 0; a < dim; ++a) {
-    if (md.ncross_[a] < 1 || md.ncross_[a] > 100000000) Reader::fail("a bad cell grid");
-    if (md.real_[a]) cells *= md.ncross_[a];
+    if (md.ncross_[a] < 1 || md.ncross_[a] > 100000000)
+      Reader::fail("a bad cell grid");
+    if (md.real_[a])
+      cells *= md.ncross_[a];
   }
-  if (cells >= (1L << 30) || md.cap_ < 1 || md.cap_ > n + 8) Reader::fail("a bad cell grid");
+  if (cells >= (1L << 30) || md.cap_ < 1 || md.cap_ > n + 8)
+    Reader::fail("a bad cell grid");
   md.count_in_ = r.vec<std::int32_t>(cells, "the cell occupation");
   md.members_.assign(static_cast<std::size_t>(cells) * md.cap_, -1);
   std::int64_t members = 0;
   for (std::int64_t c = 0; c < cells; ++c) {
     const int k = md.count_in_[c];
-    if (!in_range(k, 0, md.cap_ + 1)) Reader::fail("a cell with " + std::to_string(k) + " grains");
+    if (!in_range(k, 0, md.cap_ + 1))
+      Reader::fail("a cell with " + std::to_string(k) + " grains");
     members += k;
     for (int m = 0; m < k; ++m) {
       const auto i = r.pod<std::int32_t>();
-      if (!in_range(i, 0, n)) Reader::fail("a cell member out of range");
+      if (!in_range(i, 0, n))
+        Reader::fail("a cell member out of range");
       md.members_[c * md.cap_ + m] = i;
     }
   }
-  if (members != n) Reader::fail("the cells hold " + std::to_string(members) + " grains");
+  if (members != n)
+    Reader::fail("the cells hold " + std::to_string(members) + " grains");
   md.cell_of_ = r.vec<std::int32_t>(n, "the cell of each grain");
   md.slot_in_cell_ = r.vec<std::int32_t>(n, "the slot of each grain");
   md.cc_ = r.vec<std::array<int, dim>>(n, "the slab coordinates");
@@ -194,7 +212,8 @@ HardSphereMD<dim> HardSphereMD<dim>::restore_state(const std::vector<std::uint8_
                   md.heap_[md.where_[i]].id != i)))
       Reader::fail("inconsistent indices at grain " + std::to_string(i));
     for (int a = 0; a < dim; ++a)
-      if (!in_range(md.cc_[i][a], 0, md.ncross_[a])) Reader::fail("a slab coordinate out of range");
+      if (!in_range(md.cc_[i][a], 0, md.ncross_[a]))
+        Reader::fail("a slab coordinate out of range");
   }
   md.cand_.resize(static_cast<std::size_t>(n));
   md.t_now_ = r.pod<double>();
@@ -202,7 +221,8 @@ HardSphereMD<dim> HardSphereMD<dim>::restore_state(const std::vector<std::uint8_
   md.rate_ = r.pod<double>();
   md.g_now_ = r.pod<double>();
   md.calendar_ok_ = r.pod<bool>();
-  if (md.calendar_ok_ && !heap) Reader::fail("a valid calendar without entries");
+  if (md.calendar_ok_ && !heap)
+    Reader::fail("a valid calendar without entries");
   md.n_collisions_ = r.pod<std::int64_t>();
   md.t_press0_ = r.pod<double>();
   md.virial_ = r.pod<double>();
@@ -210,7 +230,8 @@ HardSphereMD<dim> HardSphereMD<dim>::restore_state(const std::vector<std::uint8_
   md.k_track_ = r.pod<double>();
   md.t_kin_ = r.pod<double>();
   md.growth_ = r.pod<Growth>();
-  if (!r.at_end()) Reader::fail("trailing bytes");
+  if (!r.at_end())
+    Reader::fail("trailing bytes");
   md.out_pos_.resize(md.st_.size());
   md.out_vel_.resize(md.st_.size());
   md.out_radii_.resize(md.st_.size());
@@ -223,4 +244,4 @@ template std::vector<std::uint8_t> HardSphereMD<3>::save_state() const;
 template HardSphereMD<2> HardSphereMD<2>::restore_state(const std::vector<std::uint8_t>&);
 template HardSphereMD<3> HardSphereMD<3>::restore_state(const std::vector<std::uint8_t>&);
 
-}  // namespace granpack
+} // namespace granpack

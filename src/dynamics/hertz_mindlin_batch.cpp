@@ -10,7 +10,8 @@
 namespace granpack {
 
 std::optional<HertzMindlinConstants> HertzMindlinConstants::of(const ContactLaw<3>& law) {
-  if (law.cohesion || law.rolling || !law.tangential.proportional_to_normal()) return std::nullopt;
+  if (law.cohesion || law.rolling || !law.tangential.proportional_to_normal())
+    return std::nullopt;
   HertzMindlinConstants c;
   if (const auto* hz = std::get_if<HertzNormal>(&law.normal))
     c.e_tilde = hz->e_tilde;
@@ -43,7 +44,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
   const double n_factor = hertz ? kHertzForceFactor : kLinearForceFactor;
   const double two_zeta = 2.0 * c.zeta;
   const double k_t_ratio = c.k_t_ratio, mu = c.mu;
-  const bool walton = c.walton && hertz;  // the linear law's stiffness ratio is 1
+  const bool walton = c.walton && hertz; // the linear law's stiffness ratio is 1
   const double half_dt = 0.5 * dt;
   // The sums, one variable each so that they vectorise as reductions (lane-wise partial
   // sums, combined at the end: a fixed order for a given batch and instruction set).
@@ -65,10 +66,10 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     const double h = ri + rj - d;
     const double mi = b.mass_i[l], mj = b.mass_j[l];
     const double inv_sums = 1.0 / ((ri + rj) * (mi + mj));
-    const double r_eff = ri * rj * (mi + mj) * inv_sums;  // R_i R_j / (R_i + R_j)
-    const double m_eff = mi * mj * (ri + rj) * inv_sums;  // m_i m_j / (m_i + m_j)
+    const double r_eff = ri * rj * (mi + mj) * inv_sums; // R_i R_j / (R_i + R_j)
+    const double m_eff = mi * mj * (ri + rj) * inv_sums; // m_i m_j / (m_i + m_j)
     const bool touching = h > 0;
-    const double hp = touching ? h : 0.0;  // keeps the padding and flagged lanes finite
+    const double hp = touching ? h : 0.0; // keeps the padding and flagged lanes finite
 
     // Branch vectors to the middle of the overlap: b_i = (R_i - h/2) n, b_j = -(R_j - h/2) n.
     const double ci = contact_arm(ri, h), cj = -contact_arm(rj, h);
@@ -163,20 +164,33 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     b.sliding[l] = slide ? 1 : 0;
     const bool big_angle = (mag2 != 0) & !(x2 < kSmallAngleSquared);
     // (A zero T needs no rescaling: frictionless packings never leave the path here.)
-    const bool big_unload = unloading & (mag2 != 0) & (n_el > 0) & !(std::abs(xw) < kSmallLoadChange);
+    const bool big_unload =
+        unloading & (mag2 != 0) & (n_el > 0) & !(std::abs(xw) < kSmallLoadChange);
     const bool exact = !touching | big_angle | big_unload;
     b.exact[l] = exact ? 1 : 0;
 
     // This lane's share of the sums: none for padding and flagged lanes.
     const double w = (l < n_valid) & !exact ? 1.0 : 0.0;
     const double wfx = w * fx, wfy = w * fy, wfz = w * fz;
-    v00 += wfx * rx; v01 += wfx * ry; v02 += wfx * rz;
-    v10 += wfy * rx; v11 += wfy * ry; v12 += wfy * rz;
-    v20 += wfz * rx; v21 += wfz * ry; v22 += wfz * rz;
+    v00 += wfx * rx;
+    v01 += wfx * ry;
+    v02 += wfx * rz;
+    v10 += wfy * rx;
+    v11 += wfy * ry;
+    v12 += wfy * rz;
+    v20 += wfz * rx;
+    v21 += wfz * ry;
+    v22 += wfz * rz;
     const double ex = w * (n_el * nx + tx), ey = w * (n_el * ny + ty), ez = w * (n_el * nz + tz);
-    e00 += ex * rx; e01 += ex * ry; e02 += ex * rz;
-    e10 += ey * rx; e11 += ey * ry; e12 += ey * rz;
-    e20 += ez * rx; e21 += ez * ry; e22 += ez * rz;
+    e00 += ex * rx;
+    e01 += ex * ry;
+    e02 += ex * rz;
+    e10 += ey * rx;
+    e11 += ey * ry;
+    e12 += ey * rz;
+    e20 += ez * rx;
+    e21 += ez * ry;
+    e22 += ez * rz;
     count += w > 0 ? 1 : 0;
     const double rel = w * hp / (ri < rj ? ri : rj);
     max_overlap = rel > max_overlap ? rel : max_overlap;
@@ -191,14 +205,14 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
   out.contacts = count;
 }
 
-}  // namespace
+} // namespace
 
 void evaluate(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t n, double dt,
               HertzMindlinSums& sums) {
   // Whole vectors only: every lane then goes through the same instructions.
   const std::size_t padded = (n + 7) / 8 * 8;
   GRANPACK_ASSERT(padded <= HertzMindlinBatch::kCapacity, "batch overflow");
-  for (std::size_t l = n; l < padded; ++l) {  // padding: copies of lane 0, at rest
+  for (std::size_t l = n; l < padded; ++l) { // padding: copies of lane 0, at rest
     b.rx[l] = b.rx[0], b.ry[l] = b.ry[0], b.rz[l] = b.rz[0];
     b.rad_i[l] = b.rad_i[0], b.rad_j[l] = b.rad_j[0];
     b.mass_i[l] = b.mass_i[0], b.mass_j[l] = b.mass_j[0];
@@ -217,4 +231,4 @@ void evaluate(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t 
   sums.contacts += s.contacts;
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "granpack/contact/tangential.h"  // small_angle_series, kSmallAngleSquared
+#include "granpack/contact/tangential.h" // small_angle_series, kSmallAngleSquared
 #include "granpack/core/simd_clones.h"
 
 namespace granpack {
@@ -16,7 +16,8 @@ void kick_flat(double* x, const double* y, const double* m, std::size_t n, int d
   auto run = [&]<int c>() {
     for (std::size_t i = 0; i < n; ++i) {
       const double a = h / m[i];
-      for (int k = 0; k < c; ++k) x[c * i + k] += a * y[c * i + k];
+      for (int k = 0; k < c; ++k)
+        x[c * i + k] += a * y[c * i + k];
     }
   };
   if (d == 3)
@@ -26,12 +27,13 @@ void kick_flat(double* x, const double* y, const double* m, std::size_t n, int d
   else
     run.template operator()<1>();
 }
-}  // namespace
+} // namespace
 
 template <int dim> void kick(ParticleStore<dim>& p, double h) {
   // v += (h/m) F, ω += (h/I) M over flat arrays (x, y[, z] per grain).
   constexpr int rd = rot_dim<dim>;
-  static_assert(sizeof(Vec<dim>) == dim * sizeof(double) && sizeof(RotVec<dim>) == rd * sizeof(double));
+  static_assert(sizeof(Vec<dim>) == dim * sizeof(double) &&
+                sizeof(RotVec<dim>) == rd * sizeof(double));
   const std::size_t n = p.n_owned();
   kick_flat(p.velocity.data()->data(), p.force.data()->data(), p.mass.data(), n, dim, h);
   kick_flat(p.angular_velocity.data()->data(), p.torque.data()->data(), p.inertia.data(), n, rd, h);
@@ -64,7 +66,8 @@ bool turn_on_series(double* o, const double* w, std::size_t n, double hdt) {
     const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
     y2_max = std::max(y2_max, ux * ux + uy * uy + uz * uz);
   }
-  if (!(y2_max < kSmallAngleSquared)) return false;
+  if (!(y2_max < kSmallAngleSquared))
+    return false;
   for (std::size_t i = 0; i < n; ++i) {
     const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
     const double y2 = ux * ux + uy * uy + uz * uz;
@@ -73,7 +76,7 @@ bool turn_on_series(double* o, const double* w, std::size_t n, double hdt) {
   }
   return true;
 }
-}  // namespace
+} // namespace
 
 template <int dim> void drift(ParticleStore<dim>& p, const Cell<dim>& cell, double dt) {
   const std::size_t n = p.n_owned();
@@ -81,7 +84,8 @@ template <int dim> void drift(ParticleStore<dim>& p, const Cell<dim>& cell, doub
   double* s = p.position.data()->data();
   const double* v = p.velocity.data()->data();
   for (std::size_t i = 0; i < n; ++i)
-    for (int k = 0; k < dim; ++k) s[dim * i + k] += dt * (v[dim * i + k] * inv_l[k]);
+    for (int k = 0; k < dim; ++k)
+      s[dim * i + k] += dt * (v[dim * i + k] * inv_l[k]);
   if constexpr (dim == 3) {
     // q <- exp(dt omega / 2) q, renormalised: orientation is output only.
     // dq = (cos y, sin(y)/y u) with u = ω dt/2, y = |u|. For y < 1e-3 (always, in MD:
@@ -91,11 +95,13 @@ template <int dim> void drift(ParticleStore<dim>& p, const Cell<dim>& cell, doub
     double* o = p.orientation.data()->data();
     static_assert(sizeof(OrientVec<3>) == 4 * sizeof(double));
     const double hdt = 0.5 * dt;
-    if (turn_on_series(o, w, n, hdt)) return;
+    if (turn_on_series(o, w, n, hdt))
+      return;
     for (std::size_t i = 0; i < n; ++i) {
       const double ux = hdt * w[3 * i], uy = hdt * w[3 * i + 1], uz = hdt * w[3 * i + 2];
       const double y2 = ux * ux + uy * uy + uz * uz;
-      if (!(y2 > 0)) continue;
+      if (!(y2 > 0))
+        continue;
       if (y2 < kSmallAngleSquared) {
         const SmallAngle a = small_angle_series(y2);
         rotate_quaternion(o + 4 * i, a.cos_x, a.sin_x_over_x, ux, uy, uz);
@@ -105,13 +111,15 @@ template <int dim> void drift(ParticleStore<dim>& p, const Cell<dim>& cell, doub
       }
     }
   } else {
-    for (std::size_t i = 0; i < n; ++i) p.orientation[i][0] += dt * p.angular_velocity[i][0];
+    for (std::size_t i = 0; i < n; ++i)
+      p.orientation[i][0] += dt * p.angular_velocity[i][0];
   }
 }
 
 template <int dim> Vec<dim> momentum(const ParticleStore<dim>& p) {
   Vec<dim> m = Vec<dim>::Zero();
-  for (std::size_t i = 0; i < p.n_owned(); ++i) m += p.mass[i] * p.velocity[i];
+  for (std::size_t i = 0; i < p.n_owned(); ++i)
+    m += p.mass[i] * p.velocity[i];
   return m;
 }
 
@@ -132,4 +140,4 @@ template Vec<3> momentum<3>(const ParticleStore<3>&);
 template double kinetic_energy<2>(const ParticleStore<2>&);
 template double kinetic_energy<3>(const ParticleStore<3>&);
 
-}  // namespace granpack
+} // namespace granpack

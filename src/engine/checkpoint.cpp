@@ -25,7 +25,8 @@ double exact_double(const nlohmann::json& j) {
   const std::string s = j.get<std::string>();
   std::size_t used = 0;
   const unsigned long long bits = std::stoull(s, &used, 16);
-  if (used != s.size() || s.size() != 18) throw std::invalid_argument("not an exact double: " + s);
+  if (used != s.size() || s.size() != 18)
+    throw std::invalid_argument("not an exact double: " + s);
   return std::bit_cast<double>(static_cast<std::uint64_t>(bits));
 }
 
@@ -37,7 +38,8 @@ Checkpointer::Checkpointer(MPI_Comm world, CheckpointPolicy policy)
 
 int Checkpointer::local_request(std::int64_t step_after) const {
   int bits = clock_request() | deferred_;
-  if (policy_.every_steps > 0 && step_after % policy_.every_steps == 0) bits |= kRequestCheckpoint;
+  if (policy_.every_steps > 0 && step_after % policy_.every_steps == 0)
+    bits |= kRequestCheckpoint;
   return bits;
 }
 
@@ -47,7 +49,8 @@ int Checkpointer::clock_request() const {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - last_).count() >=
           policy_.every_seconds)
     bits |= kRequestCheckpoint;
-  if (stop_signal_received() != 0) bits |= kRequestStop | kRequestCheckpoint;
+  if (stop_signal_received() != 0)
+    bits |= kRequestStop | kRequestCheckpoint;
   return bits;
 }
 
@@ -56,15 +59,19 @@ int Checkpointer::global_request(std::int64_t step_after) const {
 }
 
 bool Checkpointer::take_now(int bits) {
-  if (!(bits & kRequestCheckpoint)) return false;
-  if (bits & kRequestRebuild) return true;
-  if (++deferred_steps_ > kMaxDeferredSteps) return true;  // forced (write() says so)
+  if (!(bits & kRequestCheckpoint))
+    return false;
+  if (bits & kRequestRebuild)
+    return true;
+  if (++deferred_steps_ > kMaxDeferredSteps)
+    return true; // forced (write() says so)
   deferred_ = bits & (kRequestCheckpoint | kRequestStop);
   return false;
 }
 
 void Checkpointer::stop_if_requested(int bits, std::int64_t step) const {
-  if (!(bits & kRequestStop)) return;
+  if (!(bits & kRequestStop))
+    return;
   throw CheckpointedStop("stopped on request (SIGTERM, SIGUSR1 or SIGINT) at step " +
                          std::to_string(step) + " after writing " + policy_.file.string() +
                          "; continue with --restart " + policy_.file.string());
@@ -83,27 +90,31 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
   st["grid"] = std::vector<int>(ctx.decomposition->dims().begin(), ctx.decomposition->dims().end());
   st["completed"] = nlohmann::json::array();
   if (completed)
-    for (const auto& r : *completed) st["completed"].push_back(nlohmann::json::parse(stage_report_json(r)));
+    for (const auto& r : *completed)
+      st["completed"].push_back(nlohmann::json::parse(stage_report_json(r)));
   st["frames"] = nlohmann::json::array();
   if (mid_stage)
-    for (const auto& f : ctx.frames) st["frames"].push_back(f());
+    for (const auto& f : ctx.frames)
+      st["frames"].push_back(f());
   // Rank 0's clock: the run state must be the same text on every rank.
-  const double wall =
-      broadcast_value(world_, earlier_wall_seconds + std::chrono::duration<double>(t0 - start_).count());
+  const double wall = broadcast_value(
+      world_, earlier_wall_seconds + std::chrono::duration<double>(t0 - start_).count());
   st["wall_seconds"] = wall;
   write_state(ctx, policy_.file, st.dump());
   last_ = std::chrono::steady_clock::now();
   ++written_;
   char buf[200];
   std::snprintf(buf, sizeof buf, "  checkpoint %d at step %lld (%s) in %.2f s", written_,
-                static_cast<long long>(ctx.system.step), mid_stage ? "inside the stage" : "after the stage",
+                static_cast<long long>(ctx.system.step),
+                mid_stage ? "inside the stage" : "after the stage",
                 std::chrono::duration<double>(last_ - t0).count());
   ctx.log->info(buf + std::string(": ") + policy_.file.string());
   if (deferred_steps_ > kMaxDeferredSteps) {
-    std::snprintf(buf, sizeof buf,
-                  "  (forced: no neighbour-list rebuild in %lld steps after the request; a continuation "
-                  "from it is not bit-identical to the run without it)",
-                  static_cast<long long>(kMaxDeferredSteps));
+    std::snprintf(
+        buf, sizeof buf,
+        "  (forced: no neighbour-list rebuild in %lld steps after the request; a continuation "
+        "from it is not bit-identical to the run without it)",
+        static_cast<long long>(kMaxDeferredSteps));
     ctx.log->info(buf);
   }
   deferred_ = 0;
@@ -115,37 +126,46 @@ RunState parse_run_state(const std::string& text, const std::string& file) {
   try {
     const auto j = nlohmann::json::parse(text);
     const int format = j.at("format").get<int>();
-    if (format != 1 && format != 2) throw std::invalid_argument("unknown run_state format");
+    if (format != 1 && format != 2)
+      throw std::invalid_argument("unknown run_state format");
     s.stage_index = j.at("stage_index").get<int>();
     s.mid_stage = j.at("mid_stage").get<bool>();
     s.ranks = j.at("ranks").get<int>();
     s.grid = j.at("grid").get<std::vector<int>>();
-    for (const auto& r : j.at("completed")) s.completed.push_back(stage_report_from_json(r.dump()));
+    for (const auto& r : j.at("completed"))
+      s.completed.push_back(stage_report_from_json(r.dump()));
     if (format == 1) {
       RunState::Legacy& l = s.legacy.emplace();
       l.friction = exact_double(j.at("friction"));
       l.damping = exact_double(j.at("damping"));
       // Written since the stiffen stage (checkpoints of older versions: the deck's values).
-      if (j.contains("normal_stiffness")) l.normal_stiffness = exact_double(j.at("normal_stiffness"));
-      if (j.contains("rolling_stiffness")) l.rolling_stiffness = exact_double(j.at("rolling_stiffness"));
-      for (const auto& v : j.at("stress")) l.stress.push_back(exact_double(v));
+      if (j.contains("normal_stiffness"))
+        l.normal_stiffness = exact_double(j.at("normal_stiffness"));
+      if (j.contains("rolling_stiffness"))
+        l.rolling_stiffness = exact_double(j.at("rolling_stiffness"));
+      for (const auto& v : j.at("stress"))
+        l.stress.push_back(exact_double(v));
       l.fixed = j.at("fixed").get<std::vector<bool>>();
       l.pressure = exact_double(j.at("pressure"));
     }
-    for (const auto& f : j.at("frames")) s.frames.push_back(f);
+    for (const auto& f : j.at("frames"))
+      s.frames.push_back(f);
     s.wall_seconds = j.at("wall_seconds").get<double>();
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
     throw InputError(file + ": dataset /run_state is not a granpack run state (" + e.what() + ")");
   }
-  if (s.stage_index < 0) throw InputError(file + ": /run_state has a negative stage_index");
+  if (s.stage_index < 0)
+    throw InputError(file + ": /run_state has a negative stage_index");
   // The grid is reused on the same rank count (MPI_Cart_create would abort on a wrong one).
   long long cells = 1;
-  for (const int g : s.grid) cells *= g >= 1 && g <= 1 << 20 ? g : 0;
+  for (const int g : s.grid)
+    cells *= g >= 1 && g <= 1 << 20 ? g : 0;
   if (s.ranks < 1 || s.grid.empty() || cells != s.ranks) {
     std::string grid;
-    for (const int g : s.grid) grid += (grid.empty() ? "" : " x ") + std::to_string(g);
+    for (const int g : s.grid)
+      grid += (grid.empty() ? "" : " x ") + std::to_string(g);
     throw InputError(file + ": /run_state's domain grid (" + (grid.empty() ? "empty" : grid) +
                      ") does not fit its rank count " + std::to_string(s.ranks) +
                      ": a damaged checkpoint");
@@ -159,8 +179,10 @@ StateParameters legacy_parameters(const RunState& state, const Deck& deck) {
   MaterialSpec m = deck.material;
   m.friction = l.friction;
   m.damping = l.damping;
-  if (l.normal_stiffness) m.normal_stiffness = *l.normal_stiffness;
-  if (l.rolling_stiffness) m.rolling_stiffness = *l.rolling_stiffness;
+  if (l.normal_stiffness)
+    m.normal_stiffness = *l.normal_stiffness;
+  if (l.rolling_stiffness)
+    m.rolling_stiffness = *l.rolling_stiffness;
   StressTarget t;
   if (!l.stress.empty()) {
     // A compress stage sets the target when it ends; pressure_steps at each level's end.
@@ -188,15 +210,19 @@ void check_restart_deck(const Deck& original, const Deck& now, const RunState& s
                               std::to_string(original.sample.seed) + ")"
                         : std::string("[sample]"));
   }
-  if (!(original.material == now.material)) diffs.push_back("[material]");
-  if (!(original.numerics == now.numerics)) diffs.push_back("[numerics]");
+  if (!(original.material == now.material))
+    diffs.push_back("[material]");
+  if (!(original.numerics == now.numerics))
+    diffs.push_back("[numerics]");
   // Stages up to the one in progress have shaped the stored state: they must be the same.
-  const std::size_t fixed_count = static_cast<std::size_t>(state.stage_index) + (state.mid_stage ? 1 : 0);
+  const std::size_t fixed_count =
+      static_cast<std::size_t>(state.stage_index) + (state.mid_stage ? 1 : 0);
   const std::size_t common = std::min(original.stages.size(), now.stages.size());
   for (std::size_t i = 0; i < common; ++i) {
     const auto& a = original.stages[i];
     const auto& b = now.stages[i];
-    if (a.kind == b.kind && a.name == b.name && a.params == b.params) continue;
+    if (a.kind == b.kind && a.name == b.name && a.params == b.params)
+      continue;
     if (i < fixed_count || !allow_later_stages)
       diffs.push_back("stage[" + std::to_string(i) + "] ('" + a.name + "' in the checkpoint, '" +
                       b.name + "' now)" + (i < fixed_count ? " (already run)" : ""));
@@ -209,11 +235,13 @@ void check_restart_deck(const Deck& original, const Deck& now, const RunState& s
       diffs.push_back("the number of stages (" + std::to_string(original.stages.size()) +
                       " in the checkpoint, " + std::to_string(now.stages.size()) + " now)");
   }
-  if (diffs.empty()) return;
+  if (diffs.empty())
+    return;
   std::ostringstream os;
   os << "cannot restart from " << checkpoint_file << ": the deck " << now.file
      << " differs from the one the checkpoint was written with in ";
-  for (std::size_t i = 0; i < diffs.size(); ++i) os << (i ? ", " : "") << diffs[i];
+  for (std::size_t i = 0; i < diffs.size(); ++i)
+    os << (i ? ", " : "") << diffs[i];
   os << ". Only [output] may change on a restart";
   if (!allow_later_stages)
     os << " (and, with --allow-deck-change, the stages after the one in progress)";
@@ -224,4 +252,4 @@ void check_restart_deck(const Deck& original, const Deck& now, const RunState& s
 template void Checkpointer::write<2>(RunContext<2>&, bool);
 template void Checkpointer::write<3>(RunContext<3>&, bool);
 
-}  // namespace granpack
+} // namespace granpack

@@ -28,9 +28,10 @@ double contact_duration(const ContactLawParams& m, double density, const SampleS
 
 double stiffness_number(const ContactLawParams& m, const SampleSpec& s, int dim, double pressure) {
   if (m.normal == NormalLawKind::kHertz) {
-    return hertz_stiffness_number(e_tilde_of(m.young_modulus, m.poisson_ratio), s.diameter, dim, pressure);
+    return hertz_stiffness_number(e_tilde_of(m.young_modulus, m.poisson_ratio), s.diameter, dim,
+                                  pressure);
   }
   return m.k_n / (std::pow(s.diameter, dim - 2) * pressure);
 }
 
-}  // namespace granpack
+} // namespace granpack

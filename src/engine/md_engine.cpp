@@ -8,12 +8,12 @@
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/communicator.h"
 #include "granpack/comm/fault_injection.h"
-#include "granpack/engine/stop_signals.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/dynamics/integrator.h"
 #include "granpack/engine/state_file.h"
+#include "granpack/engine/stop_signals.h"
 
 namespace granpack {
 
@@ -54,7 +54,8 @@ template <int dim> void MdEngine<dim>::rebuild() {
     for (int a = 0; a < dim; ++a)
       bins[a] = static_cast<std::size_t>(std::max(1.0, std::floor(sys.cell.length[a] / cutoff)));
     sys.particles.sort_owned_spatially(bins);
-    halo_.borders(sys.particles, *ctx_.decomposition, Vec<dim>::Constant(cutoff).cwiseQuotient(sys.cell.length));
+    halo_.borders(sys.particles, *ctx_.decomposition,
+                  Vec<dim>::Constant(cutoff).cwiseQuotient(sys.cell.length));
   }
   ScopedPhase t(timers_.neighbor);
   collectively(ctx_.world, [&] {
@@ -76,7 +77,8 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
     ScopedPhase t(timers_.comm);
     halo_.reverse(sys.particles, *ctx_.decomposition);
   }
-  if (settings_.mobile) hold_and_push();
+  if (settings_.mobile)
+    hold_and_push();
 
   // One all-reduce for every global sum of the step.
   constexpr int nt = dim * dim;
@@ -115,7 +117,8 @@ template <int dim> void MdEngine<dim>::hold_and_push() {
   const auto& mobile = *settings_.mobile;
   for (std::size_t i = 0; i < p.n_owned(); ++i) {
     if (std::binary_search(mobile.begin(), mobile.end(), p.id[i])) {
-      if (settings_.body_force) p.force[i] += settings_.body_force(p.id[i]);
+      if (settings_.body_force)
+        p.force[i] += settings_.body_force(p.id[i]);
     } else {
       p.force[i].setZero();
       p.torque[i].setZero();
@@ -132,9 +135,11 @@ template <int dim> void MdEngine<dim>::step() {
   {
     ScopedPhase t(timers_.integrate);
     kick(p, 0.5 * dt);
-    if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
+    if (settings_.stress_control)
+      settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
     drift(p, sys.cell, dt);
-    if (settings_.stress_control) CellControl<dim>::drift(sys.cell, dt);
+    if (settings_.stress_control)
+      CellControl<dim>::drift(sys.cell, dt);
   }
 
   // One all-reduce decides for every rank: rebuild the lists, checkpoint, stop.
@@ -143,7 +148,8 @@ template <int dim> void MdEngine<dim>::step() {
     ScopedPhase t(timers_.neighbor);
     bits = list_.needs_rebuild(p, sys.cell) ? kRequestRebuild : 0;
   }
-  if (ctx_.checkpointer) bits |= ctx_.checkpointer->local_request(sys.step + 1);
+  if (ctx_.checkpointer)
+    bits |= ctx_.checkpointer->local_request(sys.step + 1);
   {
     ScopedPhase t(timers_.comm);
     fault_point(FaultPoint::kCollective);
@@ -171,11 +177,13 @@ template <int dim> void MdEngine<dim>::finish_step() {
   check_sanity();
   ScopedPhase t(timers_.integrate);
   kick(sys.particles, 0.5 * dt);
-  if (settings_.stress_control) settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
+  if (settings_.stress_control)
+    settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
   sys.time += dt;
   ++sys.step;
   fault_point(FaultPoint::kStep, sys.step);
-  if (fault_point(FaultPoint::kHold, sys.step)) wait_for_stop_signal();
+  if (fault_point(FaultPoint::kHold, sys.step))
+    wait_for_stop_signal();
 }
 
 template <int dim> void MdEngine<dim>::check_sanity() {
@@ -184,8 +192,10 @@ template <int dim> void MdEngine<dim>::check_sanity() {
   const bool finite = obs_.stress.allFinite() && std::isfinite(obs_.kinetic_energy) &&
                       std::isfinite(obs_.max_step_displacement);
   const bool overlap_ok = obs_.max_overlap <= settings_.max_overlap;
-  const bool moves_ok = obs_.max_step_displacement <= settings_.max_step_displacement * settings_.skin;
-  if (finite && overlap_ok && moves_ok) return;
+  const bool moves_ok =
+      obs_.max_step_displacement <= settings_.max_step_displacement * settings_.skin;
+  if (finite && overlap_ok && moves_ok)
+    return;
   const std::string at = "step " + std::to_string(ctx_.system.step) + ": ";
   CollectiveError err;
   const auto& p = ctx_.system.particles;
@@ -208,12 +218,15 @@ template <int dim> void MdEngine<dim>::check_sanity() {
     // The pair with the largest overlap, on the rank that computed it.
     double worst = -1;
     std::string pair;
-    loop_.for_each_contact(ctx_.system, list_, [&](std::size_t i, std::size_t j, const Vec<dim>&,
-                                                   const ContactState<dim>&) {
-      const Vec<dim> r = ctx_.system.cell.length.cwiseProduct(p.position[j] - p.position[i]);
-      const double h = (p.radius[i] + p.radius[j] - r.norm()) / std::min(p.radius[i], p.radius[j]);
-      if (h > worst) worst = h, pair = std::to_string(p.id[i]) + " and " + std::to_string(p.id[j]);
-    });
+    loop_.for_each_contact(
+        ctx_.system, list_,
+        [&](std::size_t i, std::size_t j, const Vec<dim>&, const ContactState<dim>&) {
+          const Vec<dim> r = ctx_.system.cell.length.cwiseProduct(p.position[j] - p.position[i]);
+          const double h =
+              (p.radius[i] + p.radius[j] - r.norm()) / std::min(p.radius[i], p.radius[j]);
+          if (h > worst)
+            worst = h, pair = std::to_string(p.id[i]) + " and " + std::to_string(p.id[j]);
+        });
     if (worst >= obs_.max_overlap * (1 - 1e-9)) {
       std::ostringstream os;
       os << at << "the overlap of grains " << pair << " reached " << worst
@@ -243,11 +256,13 @@ template <int dim> void MdEngine<dim>::check_sanity() {
   err.raise_if_any(ctx_.world);
   // Every check failed globally, so some rank must have found a culprit; if rounding hid
   // it, still never continue with a bad state.
-  throw Error(at + "the run went bad (non-finite values, overlap or displacement beyond the limits)");
+  throw Error(at +
+              "the run went bad (non-finite values, overlap or displacement beyond the limits)");
 }
 
 template <int dim> void MdEngine<dim>::write_postmortem() {
-  if (!ctx_.deck || ctx_.output_dir.empty()) return;
+  if (!ctx_.deck || ctx_.output_dir.empty())
+    return;
   const auto file = ctx_.output_dir / "postmortem.h5";
   try {
     write_state(ctx_, file);
@@ -269,17 +284,21 @@ EquilibriumMeasure MdEngine<dim>::measure(const EquilibriumScales& scales, bool 
     std::vector<double> comp(vecs.size());
     std::vector<double> norm2(sys.particles.n_owned(), 0.0);
     for (int a = 0; a < components; ++a) {
-      for (std::size_t i = 0; i < vecs.size(); ++i) comp[i] = vecs[i][a];
+      for (std::size_t i = 0; i < vecs.size(); ++i)
+        comp[i] = vecs[i][a];
       halo_.reverse_values(comp, *ctx_.decomposition);
-      for (std::size_t i = 0; i < norm2.size(); ++i) norm2[i] += comp[i] * comp[i];
+      for (std::size_t i = 0; i < norm2.size(); ++i)
+        norm2[i] += comp[i] * comp[i];
     }
     double m2 = 0;
-    for (double v2 : norm2) m2 = std::max(m2, v2);
+    for (double v2 : norm2)
+      m2 = std::max(m2, v2);
     return std::sqrt(global_max(ctx_.world, m2));
   };
   EquilibriumMeasure m;
   m.force = max_norm(fel, dim) / scales.force;
-  if (with_moment) m.moment = max_norm(gel, rot_dim<dim>) / scales.moment;
+  if (with_moment)
+    m.moment = max_norm(gel, rot_dim<dim>) / scales.moment;
   const double stress_scale = scales.stress, energy_scale = scales.energy;
   double err = 0;
   for (int a = 0; a < dim; ++a)
@@ -302,4 +321,4 @@ EquilibriumMeasure MdEngine<dim>::measure(const EquilibriumScales& scales, bool 
 template class MdEngine<2>;
 template class MdEngine<3>;
 
-}  // namespace granpack
+} // namespace granpack

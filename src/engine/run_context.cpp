@@ -19,4 +19,4 @@ template <int dim> double RunContext<dim>::solid_fraction() const {
 template struct RunContext<2>;
 template struct RunContext<3>;
 
-}  // namespace granpack
+} // namespace granpack

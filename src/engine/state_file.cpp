@@ -5,17 +5,20 @@
 namespace granpack {
 
 template <int dim>
-void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c, const std::array<int, dim>* grid) {
+void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
+                         const std::array<int, dim>* grid) {
   ctx.system.cell = c.cell;
   ctx.system.particles = std::move(c.particles);
   ctx.system.contacts = std::move(c.contacts);
-  ctx.decomposition = grid ? std::make_unique<Decomposition<dim>>(ctx.world, *grid)
-                           : std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
+  ctx.decomposition = grid
+                          ? std::make_unique<Decomposition<dim>>(ctx.world, *grid)
+                          : std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
   distribute(ctx.system, *ctx.decomposition);
 }
 
-template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
-                                    const std::string& run_state) {
+template <int dim>
+void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
+                 const std::string& run_state) {
   Configuration<dim> c;
   c.cell = ctx.system.cell;
   c.particles = ctx.system.particles;
@@ -42,4 +45,4 @@ template void adopt_configuration<3>(RunContext<3>&, Configuration<3>&&, const s
 template void write_state<2>(RunContext<2>&, const std::filesystem::path&, const std::string&);
 template void write_state<3>(RunContext<3>&, const std::filesystem::path&, const std::string&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -25,12 +25,14 @@ template <int dim> CellControl<dim> cell_control_of(RunContext<dim>& ctx, const 
   // [GRC] eq. 3 drives the strain eps = -L/L0 with M = 0.3 sum m / L (L in units of a); in
   // the form M' d2L/dt2 = (Omega/L_a)(sigma - Sigma) used here this is M' = M a / L0 for a
   // square cell.
-  if (c.cell_mass_per_length) cell.mass *= a / (ctx.system.cell.length.sum() / dim);
+  if (c.cell_mass_per_length)
+    cell.mass *= a / (ctx.system.cell.length.sum() / dim);
   for (int k = 0; k < dim; ++k) {
     cell.target[k] = c.stress[k];
     cell.fixed[k] = c.fixed[k];
   }
-  if (c.strain_rate_max) cell.max_strain_rate = *c.strain_rate_max;
+  if (c.strain_rate_max)
+    cell.max_strain_rate = *c.strain_rate_max;
   // Inertia number I = eps_dot sqrt(m / (a P)) (eq. 23), m the mass of a grain of diameter a
   // (in 2D, per unit thickness: I = eps_dot sqrt(m / P)).
   if (c.inertia_max && c.pressure > 0) {
@@ -46,4 +48,4 @@ template double reference_grain_mass<3>(const RunContext<3>&);
 template CellControl<2> cell_control_of<2>(RunContext<2>&, const CompressStage&);
 template CellControl<3> cell_control_of<3>(RunContext<3>&, const CompressStage&);
 
-}  // namespace granpack
+} // namespace granpack

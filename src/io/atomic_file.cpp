@@ -34,7 +34,8 @@ void commit_temp_file(const std::filesystem::path& temp, const std::filesystem::
   std::error_code ec;
   std::filesystem::rename(temp, path, ec);
   if (ec)
-    throw WriteError("cannot rename " + temp.string() + " to " + path.string() + ": " + ec.message());
+    throw WriteError("cannot rename " + temp.string() + " to " + path.string() + ": " +
+                     ec.message());
   // Make the rename itself durable; a failure here leaves a complete file, so it is not fatal.
   auto dir = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
   (void)sync_path(dir, true);

@@ -64,7 +64,6 @@ template <class F> void collectively_typed(MPI_Comm comm, F&& f) {
   }
 }
 
-
 /// The file being read or written: every failure names it, and the HDF5 detail is appended.
 /// Reading failures are bad input (InputError); writing failures are runtime errors.
 struct FileContext {
@@ -175,8 +174,8 @@ void write_attribute(const FileContext& ctx, hid_t obj, const char* name, const 
 }
 
 /// length: none for a single value, n for a 1-D array of n values.
-Handle open_attribute(const FileContext& ctx, hid_t obj, const std::string& where,
-                      const char* name, std::optional<std::size_t> length = std::nullopt) {
+Handle open_attribute(const FileContext& ctx, hid_t obj, const std::string& where, const char* name,
+                      std::optional<std::size_t> length = std::nullopt) {
   const htri_t exists = H5Aexists(obj, name);
   if (exists < 0)
     ctx.fail("cannot look up attribute " + where + name, true);
@@ -415,8 +414,8 @@ Handle open_rows(const FileContext& ctx, hid_t group, const std::string& gname, 
              " (from the root attributes n_particles/n_contacts and dimension)");
   }
   // In the file's element size (an f32 dataset stores 4 bytes per value; HDF5 converts).
-  const std::uint64_t row_bytes = static_cast<std::uint64_t>(std::max(cols, 1)) *
-                                  std::max<std::size_t>(H5Tget_size(type), 1);
+  const std::uint64_t row_bytes =
+      static_cast<std::uint64_t>(std::max(cols, 1)) * std::max<std::size_t>(H5Tget_size(type), 1);
   const auto n_rows = static_cast<std::uint64_t>(rows);
   const std::uint64_t max_rows = std::numeric_limits<std::uint64_t>::max() / row_bytes;
   check_storage(ctx, dset, "dataset " + what,
@@ -496,7 +495,8 @@ void write_parameters(const FileContext& ctx, hid_t file, const StateParameters&
   write_attribute(ctx, g, "normal_law", std::string(normal_law_name(law.normal)));
   write_attribute(ctx, g, "tangential_law", std::string(tangential_law_name(law.tangential)));
   write_attribute(ctx, g, "walton_rescaling", law.walton_rescaling ? 1 : 0);
-  for (const auto& [name, member] : kLawNumbers) write_attribute(ctx, g, name, law.*member);
+  for (const auto& [name, member] : kLawNumbers)
+    write_attribute(ctx, g, name, law.*member);
   const StressTarget& t = p.stress_target;
   std::vector<double> stress(dim, 0.0);
   std::vector<int> fixed(dim, 0);
@@ -506,7 +506,8 @@ void write_parameters(const FileContext& ctx, hid_t file, const StateParameters&
                std::to_string(t.fixed.size()) + " fixed-axis flags for " + std::to_string(dim) +
                " axes");
     stress = t.stress;
-    for (int a = 0; a < dim; ++a) fixed[a] = t.fixed[a] ? 1 : 0;
+    for (int a = 0; a < dim; ++a)
+      fixed[a] = t.fixed[a] ? 1 : 0;
   }
   write_attribute(ctx, g, "stress_target_stage", t.stage);
   write_attribute(ctx, g, "stress_target", stress);
@@ -522,25 +523,36 @@ StateParameters read_parameters(const FileContext& ctx, hid_t file, int dim) {
   StateParameters p;
   ContactLawParams& law = p.contact_law;
   const std::string normal = read_string_attribute(ctx, g, where, "normal_law");
-  if (normal == "hertz") law.normal = NormalLawKind::kHertz;
-  else if (normal == "linear") law.normal = NormalLawKind::kLinear;
-  else ctx.fail("attribute " + where + "normal_law = '" + normal + "' (hertz or linear)");
+  if (normal == "hertz")
+    law.normal = NormalLawKind::kHertz;
+  else if (normal == "linear")
+    law.normal = NormalLawKind::kLinear;
+  else
+    ctx.fail("attribute " + where + "normal_law = '" + normal + "' (hertz or linear)");
   const std::string tangential = read_string_attribute(ctx, g, where, "tangential_law");
-  if (tangential == "mindlin") law.tangential = TangentialStiffnessKind::kMindlin;
-  else if (tangential == "ratio") law.tangential = TangentialStiffnessKind::kRatio;
-  else if (tangential == "constant") law.tangential = TangentialStiffnessKind::kConstant;
-  else ctx.fail("attribute " + where + "tangential_law = '" + tangential + "' (mindlin, ratio or constant)");
+  if (tangential == "mindlin")
+    law.tangential = TangentialStiffnessKind::kMindlin;
+  else if (tangential == "ratio")
+    law.tangential = TangentialStiffnessKind::kRatio;
+  else if (tangential == "constant")
+    law.tangential = TangentialStiffnessKind::kConstant;
+  else
+    ctx.fail("attribute " + where + "tangential_law = '" + tangential +
+             "' (mindlin, ratio or constant)");
   law.walton_rescaling = read_attribute<int>(ctx, g, where, "walton_rescaling") != 0;
-  for (const auto& [name, member] : kLawNumbers) law.*member = number(name);
+  for (const auto& [name, member] : kLawNumbers)
+    law.*member = number(name);
   StressTarget& t = p.stress_target;
   t.stage = read_attribute<int>(ctx, g, where, "stress_target_stage");
   const auto stress = read_attribute_values<double>(ctx, g, where, "stress_target", dim);
   const auto fixed = read_attribute_values<int>(ctx, g, where, "fixed_axes", dim);
   const double pressure = number("pressure_target");
-  if (t.stage < -1) ctx.fail("attribute " + where + "stress_target_stage is below -1");
+  if (t.stage < -1)
+    ctx.fail("attribute " + where + "stress_target_stage is below -1");
   if (t.set()) {
     t.stress = stress;
-    for (int f : fixed) t.fixed.push_back(f != 0);
+    for (int f : fixed)
+      t.fixed.push_back(f != 0);
     t.pressure = pressure;
   }
   return p;
@@ -554,7 +566,8 @@ Handle mpio_fapl(const FileContext& ctx, MPI_Comm comm) {
   // The hints of GRANPACK_MPIIO_HINTS (io/mpiio_hints.h); HDF5 keeps its own copy.
   MPI_Info info = mpiio_hints_info();
   const herr_t rc = H5Pset_fapl_mpio(fapl, comm, info);
-  if (info != MPI_INFO_NULL) MPI_Info_free(&info);
+  if (info != MPI_INFO_NULL)
+    MPI_Info_free(&info);
   ctx.rc(rc, "cannot set the MPI-IO driver");
   return fapl;
 }
@@ -603,7 +616,8 @@ Handle open_for_reading(MPI_Comm comm, const FileContext& ctx) {
 void write_text_dataset(const FileContext& ctx, hid_t file, MPI_Comm comm, const char* name,
                         const std::string& text) {
   const std::string what = std::string("dataset /") + name;
-  const auto size = broadcast_value<unsigned long long>(comm, std::max<std::size_t>(text.size(), 1));
+  const auto size =
+      broadcast_value<unsigned long long>(comm, std::max<std::size_t>(text.size(), 1));
   auto type = h5::datatype_handle(ctx.id(H5Tcopy(H5T_C_S1), "cannot create " + what));
   ctx.rc(H5Tset_size(type, static_cast<std::size_t>(size)), "cannot create " + what);
   ctx.rc(H5Tset_strpad(type, H5T_STR_NULLPAD), "cannot create " + what);
@@ -657,7 +671,8 @@ FileMeta read_meta(const FileContext& ctx, hid_t file) {
   m.deck_text = read_string(ctx, deck, false, "dataset /deck");
   // /run_state: only in checkpoints (the stage state a restart continues from).
   const htri_t has_state = H5Lexists(file, "run_state", H5P_DEFAULT);
-  if (has_state < 0) ctx.fail("cannot look up dataset /run_state", true);
+  if (has_state < 0)
+    ctx.fail("cannot look up dataset /run_state", true);
   if (has_state > 0) {
     auto state = h5::dataset_handle(
         ctx.id(H5Dopen2(file, "run_state", H5P_DEFAULT), "cannot open dataset /run_state"));
@@ -665,8 +680,10 @@ FileMeta read_meta(const FileContext& ctx, hid_t file) {
   }
   // /parameters: absent from files written before it existed.
   const htri_t has_parameters = H5Lexists(file, "parameters", H5P_DEFAULT);
-  if (has_parameters < 0) ctx.fail("cannot look up group /parameters", true);
-  if (has_parameters > 0) m.parameters = read_parameters(ctx, file, m.dimension);
+  if (has_parameters < 0)
+    ctx.fail("cannot look up group /parameters", true);
+  if (has_parameters > 0)
+    m.parameters = read_parameters(ctx, file, m.dimension);
   return m;
 }
 
@@ -772,7 +789,8 @@ void write_contents(MPI_Comm comm, const FileContext& ctx, hid_t file, hid_t dxp
     write_attribute(ctx, file, "format", std::string("granpack"));
     write_attribute(ctx, file, "format_version", kHdf5FormatVersion);
     write_attribute(ctx, file, "granpack_version",
-                    m.granpack_version.empty() ? std::string(GRANPACK_VERSION) : m.granpack_version);
+                    m.granpack_version.empty() ? std::string(GRANPACK_VERSION)
+                                               : m.granpack_version);
     write_attribute(ctx, file, "dimension", dim);
     write_attribute(ctx, file, "n_particles", ps.global);
     write_attribute(ctx, file, "n_contacts", cs.global);
@@ -785,8 +803,10 @@ void write_contents(MPI_Comm comm, const FileContext& ctx, hid_t file, hid_t dxp
 
   // /deck (and /run_state in checkpoints): scalar fixed-length strings, written by rank 0.
   phase([&] { write_text_dataset(ctx, file, comm, "deck", m.deck_text); });
-  if (!m.run_state.empty()) phase([&] { write_text_dataset(ctx, file, comm, "run_state", m.run_state); });
-  if (m.parameters) phase([&] { write_parameters(ctx, file, *m.parameters, dim); });
+  if (!m.run_state.empty())
+    phase([&] { write_text_dataset(ctx, file, comm, "run_state", m.run_state); });
+  if (m.parameters)
+    phase([&] { write_parameters(ctx, file, *m.parameters, dim); });
 
   {
     Handle g;
@@ -821,8 +841,9 @@ void write_contents(MPI_Comm comm, const FileContext& ctx, hid_t file, hid_t dxp
     rows("angular_velocity", flatten(p.angular_velocity, n), rd, "rad/s");
     rows("orientation", flatten(p.orientation, n), od, dim == 2 ? "rad" : "1");
   }
-  phase([] { run_write_hook("after_particles"); });  // tests: a failure on some ranks only
-  if (m.kind == "checkpoint") fault_point(FaultPoint::kCheckpointDatasets);
+  phase([] { run_write_hook("after_particles"); }); // tests: a failure on some ranks only
+  if (m.kind == "checkpoint")
+    fault_point(FaultPoint::kCheckpointDatasets);
 
   {
     const auto& cst = c.contacts;
@@ -894,12 +915,13 @@ std::string fail_write(MPI_Comm comm, const std::filesystem::path& path,
     std::error_code ec;
     std::filesystem::remove(temp, ec);
   }
-  broadcast_string(comm, cause);  // also the barrier: the temporary file is gone
+  broadcast_string(comm, cause); // also the barrier: the temporary file is gone
   std::error_code ec;
   const bool previous = std::filesystem::exists(path, ec);
-  return "cannot write " + path.string() + ": " + (cause.empty() ? "" : cause + ": ") + error + "; " +
-         temp.filename().string() + " was removed" +
-         (previous ? ", the previous " + path.filename().string() + " is unchanged" : std::string());
+  return "cannot write " + path.string() + ": " + (cause.empty() ? "" : cause + ": ") + error +
+         "; " + temp.filename().string() + " was removed" +
+         (previous ? ", the previous " + path.filename().string() + " is unchanged"
+                   : std::string());
 }
 
 /// This rank's rows [n*r/P, n*(r+1)/P) of n.
@@ -910,7 +932,9 @@ Slice even_slice(std::int64_t n, int rank, int size) {
 
 } // namespace
 
-bool hdf5_file_left_open() { return file_left_open(); }
+bool hdf5_file_left_open() {
+  return file_left_open();
+}
 
 namespace detail {
 void set_hdf5_write_hook(std::function<void(std::string_view)> hook) {
@@ -949,7 +973,8 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
   } catch (const Error& e) {
     throw WriteError(fail_write(comm, path, temp.path, e.what()));
   }
-  if (c.meta.kind == "checkpoint") fault_point(FaultPoint::kCheckpointRename);
+  if (c.meta.kind == "checkpoint")
+    fault_point(FaultPoint::kCheckpointRename);
   std::string failed;
   if (rank == 0) {
     try {
@@ -959,7 +984,8 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
     }
   }
   broadcast_string(comm, failed);
-  if (!failed.empty()) throw WriteError(fail_write(comm, path, temp.path, failed));
+  if (!failed.empty())
+    throw WriteError(fail_write(comm, path, temp.path, failed));
   collectively(comm, [&] {
     if (rank != 0)
       return;
@@ -1021,7 +1047,7 @@ Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path
 
   const Slice ps = even_slice(c.meta.n_particles, rank, size);
   const Slice cs = even_slice(c.meta.n_contacts, rank, size);
-  std::vector<std::int64_t> ids, firsts, seconds;  // for the global id checks below
+  std::vector<std::int64_t> ids, firsts, seconds; // for the global id checks below
   collectively_typed(comm, [&] {
     auto dxpl = collective_dxpl(ctx);
     auto what = [](const Entry& e) {
@@ -1047,7 +1073,8 @@ Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path
     const auto np = static_cast<std::size_t>(ps.count), nc = static_cast<std::size_t>(cs.count);
     // Values the engine integrates or sums: a NaN or infinity in any of them would only
     // surface later as a blow-up or as nan in an analysis, far from its cause.
-    auto all_finite = [&](const std::vector<double>& v, const char* name, const Slice& s, int cols) {
+    auto all_finite = [&](const std::vector<double>& v, const char* name, const Slice& s,
+                          int cols) {
       const std::size_t width = std::max(cols, 1);
       for (std::size_t k = 0; k < v.size(); ++k)
         if (!std::isfinite(v[k]))
@@ -1062,13 +1089,14 @@ Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path
     all_finite(rolling, "/contacts/rolling", cs, rd);
     for (std::size_t i = 0; i < np; ++i)
       if (!(mass[i] > 0 && inertia[i] > 0) || !std::isfinite(mass[i]) || !std::isfinite(inertia[i]))
-        ctx.fail("/particles/mass or /particles/inertia row " + std::to_string(ps.offset + i) + " = " +
-                 std::to_string(mass[i]) + ", " + std::to_string(inertia[i]) +
+        ctx.fail("/particles/mass or /particles/inertia row " + std::to_string(ps.offset + i) +
+                 " = " + std::to_string(mass[i]) + ", " + std::to_string(inertia[i]) +
                  " (need positive finite values)");
     for (std::size_t k = 0; k < nc; ++k)
       if (normal[k] < 0)
         ctx.fail("/contacts/normal_force row " + std::to_string(cs.offset + k) + " = " +
-                 std::to_string(normal[k]) + " (the elastic normal force N^e is never negative; "
+                 std::to_string(normal[k]) +
+                 " (the elastic normal force N^e is never negative; "
                  "docs/hdf5-schema.md)");
     ids = id, firsts = first, seconds = second;
     c.particles.reserve(np);

@@ -32,8 +32,8 @@ constexpr const char* kRawTag = "granpack: stored variable-length reference";
 /// they are: HDF5 hands a conversion function the element in its stored (disk) form, so
 /// H5Aread/H5Dread with the opaque type returns the reference without following it. There is
 /// no public call for these bytes in 1.10.8 (H5Aget_storage_size gives only their count).
-herr_t keep_stored_bytes(hid_t src, hid_t dst, H5T_cdata_t* cdata, size_t, size_t, size_t,
-                         void*, void*, hid_t) {
+herr_t keep_stored_bytes(hid_t src, hid_t dst, H5T_cdata_t* cdata, size_t, size_t, size_t, void*,
+                         void*, hid_t) {
   switch (cdata->command) {
   case H5T_CONV_INIT: {
     // Refuse every other pair, so no conversion of anyone else's types is taken over.
@@ -133,8 +133,8 @@ std::string collection_problem(const RawFile& f, const Sizes& s, std::uint64_t a
                                std::uint64_t index, std::uint64_t length) {
   const std::size_t header = 4 + 1 + 3 + s.length, object_header = 2 + 2 + 4 + s.length;
   if (at >= f.size() || f.size() - at < header)
-    return "the collection's header lies beyond the end of the file (" +
-           std::to_string(f.size()) + " bytes)";
+    return "the collection's header lies beyond the end of the file (" + std::to_string(f.size()) +
+           " bytes)";
   std::vector<unsigned char> head(header);
   if (!f.read(at, header, head.data()))
     return "cannot read the collection's header";
@@ -161,8 +161,8 @@ std::string collection_problem(const RawFile& f, const Sizes& s, std::uint64_t a
       break; // HDF5 counts a tail too short for an object header as free space
     const unsigned idx = static_cast<unsigned>(little_endian(&c[p], 2));
     const std::uint64_t osize = little_endian(&c[p + 8], s.length);
-    const std::string where = "object " + std::to_string(idx) + " at byte " + std::to_string(p) +
-                              " of the collection";
+    const std::string where =
+        "object " + std::to_string(idx) + " at byte " + std::to_string(p) + " of the collection";
     if (osize > size)
       return where + " claims " + std::to_string(osize) + " bytes, more than the collection's " +
              std::to_string(size);
@@ -233,8 +233,8 @@ void check_variable_string(const std::filesystem::path& path, hid_t obj, bool is
   if (!f.ok())
     fail("cannot open the file to check its global heap");
   const std::uint64_t at = s.base + address;
-  std::string problem = at < address ? "address overflow"
-                                     : collection_problem(f, s, at, index, length);
+  std::string problem =
+      at < address ? "address overflow" : collection_problem(f, s, at, index, length);
   if (!problem.empty())
     fail("the string (" + std::to_string(length) + " bytes, global heap collection at byte " +
          std::to_string(at) + ", object " + std::to_string(index) + ") is corrupt: " + problem);

@@ -19,7 +19,8 @@ OutputLock::OutputLock(const std::filesystem::path& dir) : path_(dir / ".lock") 
                "): running without the one-run-per-directory lock";
     return;
   }
-  if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
+  if (::flock(fd_, LOCK_EX | LOCK_NB) == 0)
+    return;
   const int err = errno;
   ::close(fd_);
   fd_ = -1;
@@ -31,7 +32,8 @@ OutputLock::OutputLock(const std::filesystem::path& dir) : path_(dir / ".lock") 
 }
 
 OutputLock::OutputLock(OutputLock&& other) noexcept
-    : fd_(std::exchange(other.fd_, -1)), path_(std::move(other.path_)), warning_(std::move(other.warning_)) {}
+    : fd_(std::exchange(other.fd_, -1)), path_(std::move(other.path_)),
+      warning_(std::move(other.warning_)) {}
 
 OutputLock& OutputLock::operator=(OutputLock&& other) noexcept {
   if (this != &other) {
@@ -43,10 +45,13 @@ OutputLock& OutputLock::operator=(OutputLock&& other) noexcept {
   return *this;
 }
 
-OutputLock::~OutputLock() { release(); }
+OutputLock::~OutputLock() {
+  release();
+}
 
 void OutputLock::release() noexcept {
-  if (fd_ < 0) return;
+  if (fd_ < 0)
+    return;
   // Unlink while still holding the lock: a run that opens the path afterwards creates a new
   // file and locks that one, so two runs never both believe they hold the same lock.
   ::unlink(path_.c_str());
@@ -54,4 +59,4 @@ void OutputLock::release() noexcept {
   fd_ = -1;
 }
 
-}  // namespace granpack
+} // namespace granpack

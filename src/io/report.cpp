@@ -31,11 +31,13 @@ nlohmann::json stage_json(const StageReport& s) {
   e["x2"] = opt(s.x2);
   e["z2"] = opt(s.z2);
   nlohmann::json values = nlohmann::json::object();
-  for (const auto& [key, value] : s.values) values[key] = value;
+  for (const auto& [key, value] : s.values)
+    values[key] = value;
   e["values"] = values;
   if (!s.levels.empty()) {
     e["levels"] = nlohmann::json::array();
-    for (const auto& l : s.levels) e["levels"].push_back(stage_json(l));
+    for (const auto& l : s.levels)
+      e["levels"].push_back(stage_json(l));
   }
   e["wall_seconds"] = s.wall_seconds;
   if (const auto& t = s.phase_seconds)
@@ -50,7 +52,8 @@ nlohmann::json stage_json(const StageReport& s) {
   return e;
 }
 template <class T> std::optional<T> opt_from(const nlohmann::json& e, const char* key) {
-  if (!e.contains(key) || e[key].is_null()) return std::nullopt;
+  if (!e.contains(key) || e[key].is_null())
+    return std::nullopt;
   return e[key].get<T>();
 }
 StageReport stage_from_json(const nlohmann::json& e) {
@@ -69,9 +72,11 @@ StageReport stage_from_json(const nlohmann::json& e) {
   s.x0 = opt_from<double>(e, "x0");
   s.x2 = opt_from<double>(e, "x2");
   s.z2 = opt_from<double>(e, "z2");
-  for (const auto& [key, value] : e.at("values").items()) s.values.emplace_back(key, value.get<double>());
+  for (const auto& [key, value] : e.at("values").items())
+    s.values.emplace_back(key, value.get<double>());
   if (e.contains("levels"))
-    for (const auto& l : e["levels"]) s.levels.push_back(stage_from_json(l));
+    for (const auto& l : e["levels"])
+      s.levels.push_back(stage_from_json(l));
   s.wall_seconds = e.at("wall_seconds").get<double>();
   if (e.contains("phase_seconds")) {
     const auto& t = e["phase_seconds"];
@@ -87,9 +92,11 @@ StageReport stage_from_json(const nlohmann::json& e) {
   }
   return s;
 }
-}  // namespace
+} // namespace
 
-std::string stage_report_json(const StageReport& s) { return stage_json(s).dump(); }
+std::string stage_report_json(const StageReport& s) {
+  return stage_json(s).dump();
+}
 
 StageReport stage_report_from_json(const std::string& text) {
   try {
@@ -109,7 +116,8 @@ std::string to_json(const RunReport& r) {
   j["final"] = r.final_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.final_file);
   j["wall_seconds"] = r.wall_seconds;
   j["stages"] = nlohmann::json::array();
-  for (const auto& s : r.stages) j["stages"].push_back(stage_json(s));
+  for (const auto& s : r.stages)
+    j["stages"].push_back(stage_json(s));
   return j.dump(2) + "\n";
 }
 
@@ -121,11 +129,12 @@ void write_text_atomically(const std::filesystem::path& path, const std::string&
     out << text;
     out.close();
     if (!out) {
-      const int e = errno;  // set by the failed write or close (ENOSPC, EDQUOT, EFBIG)
+      const int e = errno; // set by the failed write or close (ENOSPC, EDQUOT, EFBIG)
       std::error_code ec;
       std::filesystem::remove(tmp, ec);
-      throw WriteError("cannot write " + path.string() + ": " + (e ? std::strerror(e) : "write failed") +
-                       "; " + tmp.filename().string() + " was removed");
+      throw WriteError("cannot write " + path.string() + ": " +
+                       (e ? std::strerror(e) : "write failed") + "; " + tmp.filename().string() +
+                       " was removed");
     }
   }
   commit_temp_file(tmp, path);
@@ -135,4 +144,4 @@ void write_report(const std::filesystem::path& path, const RunReport& r) {
   write_text_atomically(path, to_json(r));
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -30,19 +30,24 @@ StateParameters replayed_parameters(const Deck& deck, int stage_index) {
   StressTarget target;
   const int dim = deck.sample.dimension;
   for (const auto& st : deck.stages) {
-    if (st.index > stage_index) break;
+    if (st.index > stage_index)
+      break;
     if (const auto* s = std::get_if<SetStage>(&st.params)) {
-      if (s->friction) m.friction = *s->friction;
-      if (s->damping) m.damping = *s->damping;
+      if (s->friction)
+        m.friction = *s->friction;
+      if (s->damping)
+        m.damping = *s->damping;
     } else if (const auto* f = std::get_if<StiffenStage>(&st.params)) {
-      if (f->scale_rolling) m.rolling_stiffness *= f->normal_stiffness / m.normal_stiffness;
+      if (f->scale_rolling)
+        m.rolling_stiffness *= f->normal_stiffness / m.normal_stiffness;
       m.normal_stiffness = f->normal_stiffness;
     } else if (const auto* c = std::get_if<CompressStage>(&st.params)) {
       // As the analyses of these files always did: a stage with a fixed axis leaves the
       // earlier target in place.
-      bool all = true;  // every axis stress-controlled
+      bool all = true; // every axis stress-controlled
       for (int a = 0; a < dim; ++a)
-        if (!c->fixed.empty() && c->fixed[a]) all = false;
+        if (!c->fixed.empty() && c->fixed[a])
+          all = false;
       if (c->stress.size() == std::size_t(dim) && all)
         target = StressTarget{st.index, c->stress, std::vector<bool>(dim, false), c->pressure};
     } else if (std::holds_alternative<PressureStepsStage>(st.params)) {
@@ -52,4 +57,4 @@ StateParameters replayed_parameters(const Deck& deck, int stage_index) {
   return {contact_law_params(m), target};
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -82,7 +82,7 @@ void write_particles_xdmf(const std::filesystem::path& xdmf_path, const XdmfPart
     out << particles_xdmf(p);
     out.close();
     if (!out) {
-      const int e = errno;  // set by the failed write or close (ENOSPC, EDQUOT, EFBIG)
+      const int e = errno; // set by the failed write or close (ENOSPC, EDQUOT, EFBIG)
       std::error_code ec;
       std::filesystem::remove(temp, ec);
       throw WriteError("cannot write " + xdmf_path.string() + ": " +

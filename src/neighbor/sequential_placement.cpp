@@ -21,7 +21,8 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
                                          std::int64_t max_attempts_per_grain) {
   const std::size_t n = diameter.size();
   std::vector<Vec<dim>> s(n, Vec<dim>::Zero());
-  if (n == 0) return s;
+  if (n == 0)
+    return s;
   GRANPACK_CHECK(side > 0 && std::isfinite(side), "sequential placement: cell side " << side);
   const double d_max = *std::max_element(diameter.begin(), diameter.end());
   GRANPACK_CHECK(d_max > 0 && d_max < side,
@@ -30,19 +31,22 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
   // with fewer than 3 cells every cell neighbours every other one (visited once each).
   const int per_axis = std::max(1, static_cast<int>(std::floor(side / d_max)));
   std::size_t n_cells = 1;
-  for (int a = 0; a < dim; ++a) n_cells *= static_cast<std::size_t>(per_axis);
+  for (int a = 0; a < dim; ++a)
+    n_cells *= static_cast<std::size_t>(per_axis);
   std::vector<std::int64_t> head(n_cells, -1), next(n, -1);
-  const bool scan_all = per_axis < 3;  // below 3 cells per axis every cell is a neighbour
+  const bool scan_all = per_axis < 3; // below 3 cells per axis every cell is a neighbour
   const int span = scan_all ? per_axis : 3;
 
   auto cell_of = [&](const Vec<dim>& x) {
     std::array<int, dim> c{};
-    for (int a = 0; a < dim; ++a) c[a] = std::min(per_axis - 1, static_cast<int>(x[a] * per_axis));
+    for (int a = 0; a < dim; ++a)
+      c[a] = std::min(per_axis - 1, static_cast<int>(x[a] * per_axis));
     return c;
   };
   auto flat = [&](const std::array<int, dim>& c) {
     std::size_t k = 0;
-    for (int a = dim - 1; a >= 0; --a) k = k * per_axis + static_cast<std::size_t>(c[a]);
+    for (int a = dim - 1; a >= 0; --a)
+      k = k * per_axis + static_cast<std::size_t>(c[a]);
     return k;
   };
   auto fits = [&](std::size_t i, const Vec<dim>& x) {
@@ -59,9 +63,11 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
       }
       for (std::int64_t j = head[flat(c)]; j >= 0; j = next[static_cast<std::size_t>(j)]) {
         Vec<dim> r = x - s[static_cast<std::size_t>(j)];
-        for (int a = 0; a < dim; ++a) r[a] -= std::round(r[a]);  // nearest image
+        for (int a = 0; a < dim; ++a)
+          r[a] -= std::round(r[a]); // nearest image
         const double contact = 0.5 * (diameter[i] + diameter[static_cast<std::size_t>(j)]) / side;
-        if (r.squaredNorm() < contact * contact) return false;
+        if (r.squaredNorm() < contact * contact)
+          return false;
       }
     }
     return true;
@@ -78,8 +84,9 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
     std::int64_t attempt = 0;
     do {
       if (attempt++ == max_attempts_per_grain) {
-        double placed = 0;  // the grains before this one in `order`
-        for (std::size_t j = 0; j < k; ++j) placed += HomogeneousGrain<dim>::volume(diameter[order[j]]);
+        double placed = 0; // the grains before this one in `order`
+        for (std::size_t j = 0; j < k; ++j)
+          placed += HomogeneousGrain<dim>::volume(diameter[order[j]]);
         std::ostringstream msg;
         msg << "sequential placement: grain " << i << " (diameter " << diameter[i]
             << ") found no room after " << max_attempts_per_grain
@@ -87,7 +94,8 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
             << " already placed";
         throw Error(msg.str());
       }
-      for (int a = 0; a < dim; ++a) x[a] = u(rng);
+      for (int a = 0; a < dim; ++a)
+        x[a] = u(rng);
     } while (!fits(i, x));
     s[i] = x;
     const std::size_t c = flat(cell_of(x));
@@ -102,4 +110,4 @@ template std::vector<Vec<2>> place_sequentially<2>(const std::vector<double>&, d
 template std::vector<Vec<3>> place_sequentially<3>(const std::vector<double>&, double,
                                                    std::mt19937_64&, std::int64_t);
 
-}  // namespace granpack
+} // namespace granpack

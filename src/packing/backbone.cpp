@@ -17,14 +17,18 @@ Backbone find_backbone(const ParticleStore<dim>& p, const Halo<dim>& halo,
   while (true) {
     count_backbone_contacts(carrying, b.rattler, b.counts);
     halo.reverse_values(b.counts, d);
-    auto fresh = static_cast<std::int64_t>(flag_rattlers(p.n_owned(), b.counts, min_contacts, b.rattler));
-    if (global_sum(d.comm(), fresh) == 0) break;
-    for (std::size_t i = 0; i < p.size(); ++i) flags[i] = b.rattler[i];
+    auto fresh =
+        static_cast<std::int64_t>(flag_rattlers(p.n_owned(), b.counts, min_contacts, b.rattler));
+    if (global_sum(d.comm(), fresh) == 0)
+      break;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      flags[i] = b.rattler[i];
     halo.forward_values(flags, d);
-    for (std::size_t i = p.n_owned(); i < p.size(); ++i) b.rattler[i] = flags[i] > 0.5;
+    for (std::size_t i = p.n_owned(); i < p.size(); ++i)
+      b.rattler[i] = flags[i] > 0.5;
   }
   std::int64_t local_r = 0, local_c = 0, local_2 = 0;
-  double force_sums[2] = {0, 0};  // sum N, sum N^2 over backbone contacts
+  double force_sums[2] = {0, 0}; // sum N, sum N^2 over backbone contacts
   for (std::size_t i = 0; i < p.n_owned(); ++i) {
     local_r += b.rattler[i];
     local_2 += !b.rattler[i] && b.counts[i] == 2;
@@ -56,4 +60,4 @@ template Backbone find_backbone<2>(const ParticleStore<2>&, const Halo<2>&, cons
 template Backbone find_backbone<3>(const ParticleStore<3>&, const Halo<3>&, const Decomposition<3>&,
                                    const std::vector<CarryingContact>&, int);
 
-}  // namespace granpack
+} // namespace granpack

@@ -72,18 +72,22 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   // Local index of each contact's two grains: the first is owned (contacts travel with their
   // first grain); of the images of the second, the nearest.
   std::unordered_multimap<GlobalId, std::size_t> where;
-  for (std::size_t i = 0; i < p.size(); ++i) where.emplace(p.id[i], i);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    where.emplace(p.id[i], i);
   std::int64_t lost = 0;
   for (std::size_t k = 0; k < sys.contacts.size(); ++k) {
     const auto& key = sys.contacts.key(k);
     std::size_t i = p.size(), j = p.size();
     for (auto [it, end] = where.equal_range(key.first); it != end; ++it)
-      if (it->second < p.n_owned()) i = it->second;
+      if (it->second < p.n_owned())
+        i = it->second;
     double best = std::numeric_limits<double>::infinity();
     if (i < p.size())
       for (auto [it, end] = where.equal_range(key.second); it != end; ++it) {
-        const double dist = sys.cell.length.cwiseProduct(p.position[it->second] - p.position[i]).norm();
-        if (dist < best) best = dist, j = it->second;
+        const double dist =
+            sys.cell.length.cwiseProduct(p.position[it->second] - p.position[i]).norm();
+        if (dist < best)
+          best = dist, j = it->second;
       }
     if (i == p.size() || j == p.size()) {
       ++lost;
@@ -96,7 +100,8 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
     // g/D0) across a gap g = -h; 0 without cohesion). h is computed as -(|r| - R_i - R_j),
     // whose rounding the analyses of the committed files were made with.
     const double attraction = v.law.attraction(-(r.norm() - p.radius[i] - p.radius[j]));
-    v.contacts.push_back({i, j, r, st.normal_force, st.tangential_force, attraction, distant, st.rolling});
+    v.contacts.push_back(
+        {i, j, r, st.normal_force, st.tangential_force, attraction, distant, st.rolling});
   }
   GRANPACK_CHECK(global_sum(world, lost) == 0,
                  file.string() << ": " << global_sum(world, lost)
@@ -113,10 +118,12 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
   // [AR]'s scale a^2 P; with cohesion [GRC]'s F1 = max(F0, a^2 P) (II D), as the engine's
   // criteria: at P* = 0 the pressure is ~0 or negative, and a threshold from it would count
   // distant pairs (N^e = 0) as force-carrying contacts.
-  v.force_threshold = threshold * force_scale_f1(dim, v.diameter, v.pressure, v.contact_law.cohesion_force);
+  v.force_threshold =
+      threshold * force_scale_f1(dim, v.diameter, v.pressure, v.contact_law.cohesion_force);
 
   for (const auto& c : v.contacts)
-    if (c.normal_force > v.force_threshold) v.carrying.push_back({c.i, c.j, c.normal_force});
+    if (c.normal_force > v.force_threshold)
+      v.carrying.push_back({c.i, c.j, c.normal_force});
   const int min_contacts = min_backbone_contacts(dim, v.law.friction.mu);
   v.backbone = find_backbone(p, v.halo, *v.decomposition, v.carrying, min_contacts);
   // Backbone coordinations on the ghosts too (the force statistics split by coordination).
@@ -127,16 +134,20 @@ PackingView<dim> load_packing(MPI_Comm world, const std::filesystem::path& file,
 template <int dim> void select_interaction_network(PackingView<dim>& v) {
   const auto& p = v.particles();
   std::vector<std::pair<GlobalId, GlobalId>> pairs;
-  for (const auto& c : v.contacts) pairs.emplace_back(p.id[c.i], p.id[c.j]);
+  for (const auto& c : v.contacts)
+    pairs.emplace_back(p.id[c.i], p.id[c.j]);
   const ClusterSplit split = split_clusters(pairs, v.world);
   v.detached_clusters = split.other_clusters;
   v.detached_grains = split.other_grains;
-  auto in_largest = [&](std::size_t i) { return std::binary_search(split.largest.begin(), split.largest.end(), p.id[i]); };
+  auto in_largest = [&](std::size_t i) {
+    return std::binary_search(split.largest.begin(), split.largest.end(), p.id[i]);
+  };
   // find_backbone with one contact required: every grain of the largest cluster stays, the rest
   // (no pair left) are flagged.
   v.carrying.clear();
   for (const auto& c : v.contacts)
-    if (in_largest(c.i)) v.carrying.push_back({c.i, c.j, c.normal_force});
+    if (in_largest(c.i))
+      v.carrying.push_back({c.i, c.j, c.normal_force});
   v.backbone = find_backbone(v.particles(), v.halo, *v.decomposition, v.carrying, 1);
   v.halo.forward_values(v.backbone.counts, *v.decomposition);
   v.interaction_network = true;
@@ -144,7 +155,9 @@ template <int dim> void select_interaction_network(PackingView<dim>& v) {
 
 template void select_interaction_network<2>(PackingView<2>&);
 template void select_interaction_network<3>(PackingView<3>&);
-template PackingView<2> load_packing<2>(MPI_Comm, const std::filesystem::path&, const FileMeta&, double, double);
-template PackingView<3> load_packing<3>(MPI_Comm, const std::filesystem::path&, const FileMeta&, double, double);
+template PackingView<2> load_packing<2>(MPI_Comm, const std::filesystem::path&, const FileMeta&,
+                                        double, double);
+template PackingView<3> load_packing<3>(MPI_Comm, const std::filesystem::path&, const FileMeta&,
+                                        double, double);
 
-}  // namespace granpack
+} // namespace granpack

@@ -5,7 +5,9 @@
 
 namespace granpack {
 
-void DirectSolver::solve(::Vec b, ::Vec x) const { GRANPACK_PETSC(KSPSolve(ksp, b, x)); }
+void DirectSolver::solve(::Vec b, ::Vec x) const {
+  GRANPACK_PETSC(KSPSolve(ksp, b, x));
+}
 
 namespace {
 PetscErrorCode apply_factors(PC pc, ::Vec x, ::Vec y) {
@@ -14,7 +16,7 @@ PetscErrorCode apply_factors(PC pc, ::Vec x, ::Vec y) {
   PetscCall(KSPSolve(static_cast<const DirectSolver*>(ctx)->ksp, x, y));
   return 0;
 }
-}  // namespace
+} // namespace
 
 void PreconditionedSolver::solve(::Vec b, ::Vec x) {
   GRANPACK_PETSC(KSPSolve(ksp, b, x));
@@ -23,8 +25,10 @@ void PreconditionedSolver::solve(::Vec b, ::Vec x) {
   PetscInt its = 0;
   GRANPACK_PETSC(KSPGetIterationNumber(ksp, &its));
   iterations = std::max<std::int64_t>(iterations, its);
-  GRANPACK_CHECK(reason > 0, "stiffness: GMRES on K = K(1) + K(2) preconditioned by K(1) did not converge (reason "
-                                 << reason << " after " << its << " iterations)");
+  GRANPACK_CHECK(
+      reason > 0,
+      "stiffness: GMRES on K = K(1) + K(2) preconditioned by K(1) did not converge (reason "
+          << reason << " after " << its << " iterations)");
 }
 
 PreconditionedSolver krylov_with_factors(Mat a, const DirectSolver& factors, double rtol) {
@@ -59,13 +63,14 @@ DirectSolver factorize(Mat a, bool symmetric, double null_pivot_threshold) {
   GRANPACK_PETSC(KSPSetType(s.ksp, KSPPREONLY));
   PC pc = nullptr;
   GRANPACK_PETSC(KSPGetPC(s.ksp, &pc));
-  if (symmetric) GRANPACK_PETSC(MatSetOption(a, MAT_SYMMETRIC, PETSC_TRUE));
+  if (symmetric)
+    GRANPACK_PETSC(MatSetOption(a, MAT_SYMMETRIC, PETSC_TRUE));
   GRANPACK_PETSC(PCSetType(pc, symmetric ? PCCHOLESKY : PCLU));
   GRANPACK_PETSC(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   GRANPACK_PETSC(PCFactorSetUpMatSolverType(pc));
   Mat f = nullptr;
   GRANPACK_PETSC(PCFactorGetMatrix(pc, &f));
-  GRANPACK_PETSC(MatMumpsSetIcntl(f, 24, 1));  // detect null pivots instead of failing
+  GRANPACK_PETSC(MatMumpsSetIcntl(f, 24, 1)); // detect null pivots instead of failing
   GRANPACK_PETSC(MatMumpsSetCntl(f, 3, null_pivot_threshold));
   GRANPACK_PETSC(KSPSetFromOptions(s.ksp));
   GRANPACK_PETSC(KSPSetUp(s.ksp));
@@ -82,4 +87,4 @@ DirectSolver factorize(Mat a, bool symmetric, double null_pivot_threshold) {
   return s;
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -16,12 +16,14 @@ namespace {
 /// The grain's rows in K_uu.
 std::vector<PetscInt> grain_rows(std::int64_t index, int g) {
   std::vector<PetscInt> rows(g);
-  for (int d = 0; d < g; ++d) rows[d] = PetscInt(index * g + d);
+  for (int d = 0; d < g; ++d)
+    rows[d] = PetscInt(index * g + d);
   return rows;
 }
 
 /// Pins grain `index`'s translations in `b` (rows, columns and border entries).
-template <int dim> void pin(BorderedMatrix<dim>& b, std::int64_t index, int g, bool owner, double diagonal) {
+template <int dim>
+void pin(BorderedMatrix<dim>& b, std::int64_t index, int g, bool owner, double diagonal) {
   std::vector<PetscInt> rows = grain_rows(index, g);
   rows.resize(dim);
   const PetscInt n = owner ? dim : 0;
@@ -46,7 +48,7 @@ PetscErrorCode apply_inverse(Mat shell, ::Vec x, ::Vec y) {
   return 0;
 }
 
-}  // namespace
+} // namespace
 
 template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>& s) {
   KnownMechanisms km;
@@ -63,12 +65,14 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
   for (std::size_t k = 0; k + 1 < s.divalent.size(); k += 2) {
     const auto& c1 = s.divalent[k];
     const auto& c2 = s.divalent[k + 1];
-    GRANPACK_CHECK(c1.grain == c2.grain && (k + 2 >= s.divalent.size() || s.divalent[k + 2].grain != c1.grain),
-                   "stiffness: divalent grain " << c1.grain << " does not have exactly two backbone contacts");
+    GRANPACK_CHECK(
+        c1.grain == c2.grain && (k + 2 >= s.divalent.size() || s.divalent[k + 2].grain != c1.grain),
+        "stiffness: divalent grain " << c1.grain << " does not have exactly two backbone contacts");
     km.divalent.push_back({c1.grain, {c1.neighbour, c2.neighbour}});
     const std::int64_t index = num.index.at(c1.grain);
     divalent_index.insert(index);
-    const Vec<3> p1(c1.branch[0], c1.branch[1], c1.branch[2]), p2(c2.branch[0], c2.branch[1], c2.branch[2]);
+    const Vec<3> p1(c1.branch[0], c1.branch[1], c1.branch[2]),
+        p2(c2.branch[0], c2.branch[1], c2.branch[2]);
     rolling.emplace_back(index, divalent_rolling_mode(p1, p2, s.layout.ell));
   }
   GRANPACK_CHECK(s.divalent.size() % 2 == 0, "stiffness: odd number of divalent contact records");
@@ -95,7 +99,8 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
   }
   // Stiffen: <k_n> v vᵀ on each divalent grain's diagonal block (rows owned here).
   std::vector<BorderedMatrix<dim>*> matrices = {&s.k1, &s.k};
-  if (s.has_gram()) matrices.push_back(&s.gram);
+  if (s.has_gram())
+    matrices.push_back(&s.gram);
   for (BorderedMatrix<dim>* b : matrices) {
     for (const auto& [index, v] : rolling)
       if (index >= num.first && index < num.first + num.local) {
@@ -109,11 +114,13 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
 
   // Pin the first grain (in the numbering) that is not divalent.
   std::int64_t pinned = 0;
-  while (divalent_index.count(pinned)) ++pinned;
+  while (divalent_index.count(pinned))
+    ++pinned;
   GRANPACK_CHECK(pinned < num.grains, "stiffness: the backbone is empty");
   km.pinned_grain = num.ids[pinned];
   const bool owner = pinned >= num.first && pinned < num.first + num.local;
-  for (BorderedMatrix<dim>* b : matrices) pin(*b, pinned, g, owner, kbar);
+  for (BorderedMatrix<dim>* b : matrices)
+    pin(*b, pinned, g, owner, kbar);
   return km;
 }
 
@@ -133,7 +140,8 @@ std::vector<double> eigenpairs_near_zero(Mat a, const DirectSolver& solver, int 
   ShellContext ctx{&solver};
   OwnedMat inverse;
   GRANPACK_PETSC(MatCreateShell(comm, m, n, big_m, big_n, &ctx, inverse.address()));
-  GRANPACK_PETSC(MatShellSetOperation(inverse, MATOP_MULT, reinterpret_cast<void (*)(void)>(apply_inverse)));
+  GRANPACK_PETSC(
+      MatShellSetOperation(inverse, MATOP_MULT, reinterpret_cast<void (*)(void)>(apply_inverse)));
   EPS eps = nullptr;
   GRANPACK_PETSC(EPSCreate(comm, &eps));
   std::vector<std::pair<double, PetscInt>> found;
@@ -167,23 +175,27 @@ std::vector<double> eigenpairs_near_zero(Mat a, const DirectSolver& solver, int 
   }
   EPSDestroy(&eps);
   std::vector<double> out;
-  for (const auto& [lambda, k] : found) out.push_back(lambda);
+  for (const auto& [lambda, k] : found)
+    out.push_back(lambda);
   return out;
 }
 
-}  // namespace
+} // namespace
 
 std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int count, double scale,
                                          double* seconds) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<double> out = eigenpairs_near_zero(a, solver, count, nullptr);
-  for (double& x : out) x /= scale;
-  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (double& x : out)
+    x /= scale;
+  if (seconds)
+    *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 
-std::vector<std::vector<GlobalId>> floppy_modes(Mat a, const GrainNumbering& numbering, int grain_dofs,
-                                                double mean_kn, int count, double shift, double tolerance) {
+std::vector<std::vector<GlobalId>> floppy_modes(Mat a, const GrainNumbering& numbering,
+                                                int grain_dofs, double mean_kn, int count,
+                                                double shift, double tolerance) {
   MPI_Comm comm = MPI_COMM_NULL;
   GRANPACK_PETSC(PetscObjectGetComm(reinterpret_cast<PetscObject>(a), &comm));
   OwnedMat shifted;
@@ -200,31 +212,37 @@ std::vector<std::vector<GlobalId>> floppy_modes(Mat a, const GrainNumbering& num
     lambda = eigenpairs_near_zero(shifted, solver, count, &vectors);
     const bool all_null = !lambda.empty() && std::size_t(count) == lambda.size() &&
                           lambda.back() / mean_kn - shift <= tolerance;
-    if (!all_null || count >= size_a) break;
+    if (!all_null || count >= size_a)
+      break;
     count = int(std::min<PetscInt>(2 * PetscInt(count), size_a));
   }
   std::vector<std::vector<GlobalId>> modes;
   for (std::size_t k = 0; k < lambda.size(); ++k) {
-    if (lambda[k] / mean_kn - shift > tolerance) continue;
+    if (lambda[k] / mean_kn - shift > tolerance)
+      continue;
     // Per-grain amplitude of this rank's rows, then every rank's (index, amplitude) pairs.
     const PetscScalar* x = nullptr;
     GRANPACK_PETSC(VecGetArrayRead(vectors[k], &x));
     std::vector<double> local(2 * numbering.local);
     for (std::int64_t i = 0; i < numbering.local; ++i) {
       double a2 = 0;
-      for (int d = 0; d < grain_dofs; ++d) a2 += x[i * grain_dofs + d] * x[i * grain_dofs + d];
+      for (int d = 0; d < grain_dofs; ++d)
+        a2 += x[i * grain_dofs + d] * x[i * grain_dofs + d];
       local[2 * i] = double(numbering.first + i), local[2 * i + 1] = std::sqrt(a2);
     }
     GRANPACK_PETSC(VecRestoreArrayRead(vectors[k], &x));
     const std::vector<double> all = allgather_concat(comm, local);
     std::vector<std::pair<double, GlobalId>> amp;
     double largest = 0;
-    for (std::size_t i = 0; i + 1 < all.size(); i += 2) largest = std::max(largest, all[i + 1]);
     for (std::size_t i = 0; i + 1 < all.size(); i += 2)
-      if (all[i + 1] >= 0.1 * largest) amp.emplace_back(-all[i + 1], numbering.ids[std::size_t(all[i])]);
+      largest = std::max(largest, all[i + 1]);
+    for (std::size_t i = 0; i + 1 < all.size(); i += 2)
+      if (all[i + 1] >= 0.1 * largest)
+        amp.emplace_back(-all[i + 1], numbering.ids[std::size_t(all[i])]);
     std::sort(amp.begin(), amp.end());
     std::vector<GlobalId> grains;
-    for (std::size_t i = 0; i < std::min<std::size_t>(amp.size(), 50); ++i) grains.push_back(amp[i].second);
+    for (std::size_t i = 0; i < std::min<std::size_t>(amp.size(), 50); ++i)
+      grains.push_back(amp[i].second);
     modes.push_back(std::move(grains));
   }
   return modes;
@@ -233,4 +251,4 @@ std::vector<std::vector<GlobalId>> floppy_modes(Mat a, const GrainNumbering& num
 template KnownMechanisms remove_known_mechanisms<2>(StiffnessSystem<2>&);
 template KnownMechanisms remove_known_mechanisms<3>(StiffnessSystem<3>&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -20,7 +20,7 @@ void petsc_failed(PetscErrorCode code, const char* call, const char* file, int l
      << (text ? text : "unknown") << ") at " << file << ":" << line;
   throw Error(os.str());
 }
-}  // namespace detail
+} // namespace detail
 
 namespace {
 /// MUMPS's dense fronts go to whichever BLAS libblas.so.3 points to. OpenBLAS (Debian's
@@ -29,18 +29,22 @@ namespace {
 /// the cores. Unless the user chose (OPENBLAS_NUM_THREADS), one thread per rank when there
 /// are several ranks. Looked up at run time: nothing to do with another BLAS.
 void limit_blas_threads() {
-  if (std::getenv("OPENBLAS_NUM_THREADS") || std::getenv("OMP_NUM_THREADS")) return;
+  if (std::getenv("OPENBLAS_NUM_THREADS") || std::getenv("OMP_NUM_THREADS"))
+    return;
   const int size = size_of(MPI_COMM_WORLD);
-  if (size == 1) return;
+  if (size == 1)
+    return;
   using SetThreads = void (*)(int);
-  if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);
+  if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+    set(1);
 }
-}  // namespace
+} // namespace
 
 void ensure_petsc_initialized() {
   PetscBool done = PETSC_FALSE;
   SlepcInitialized(&done);
-  if (done) return;
+  if (done)
+    return;
   limit_blas_threads();
   // No command-line arguments: granpack's own CLI owns argv. Solver options can still be
   // given through the PETSC_OPTIONS environment variable (prefix "stiffness_").
@@ -50,7 +54,8 @@ void ensure_petsc_initialized() {
 void finalize_petsc() {
   PetscBool done = PETSC_FALSE;
   SlepcInitialized(&done);
-  if (done) SlepcFinalize();
+  if (done)
+    SlepcFinalize();
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -21,10 +21,12 @@ OwnedVec grain_vector(MPI_Comm comm, PetscInt local_rows) {
 }
 
 /// K_uu with block size g, preallocated from the number of backbone contacts per grain.
-OwnedMat grain_matrix(MPI_Comm comm, PetscInt g, PetscInt local_grains, const std::vector<PetscInt>& nnz) {
+OwnedMat grain_matrix(MPI_Comm comm, PetscInt g, PetscInt local_grains,
+                      const std::vector<PetscInt>& nnz) {
   OwnedMat a;
   GRANPACK_PETSC(MatCreate(comm, a.address()));
-  GRANPACK_PETSC(MatSetSizes(a, local_grains * g, local_grains * g, PETSC_DETERMINE, PETSC_DETERMINE));
+  GRANPACK_PETSC(
+      MatSetSizes(a, local_grains * g, local_grains * g, PETSC_DETERMINE, PETSC_DETERMINE));
   GRANPACK_PETSC(MatSetType(a, MATAIJ));
   GRANPACK_PETSC(MatSetBlockSize(a, g));
   // Blocks per block row: the grain itself and one per contact, as diagonal- or
@@ -34,8 +36,9 @@ OwnedMat grain_matrix(MPI_Comm comm, PetscInt g, PetscInt local_grains, const st
   return a;
 }
 
-template <int dim> void init_bordered(BorderedMatrix<dim>& b, MPI_Comm comm, PetscInt g,
-                                      PetscInt local_grains, const std::vector<PetscInt>& nnz) {
+template <int dim>
+void init_bordered(BorderedMatrix<dim>& b, MPI_Comm comm, PetscInt g, PetscInt local_grains,
+                   const std::vector<PetscInt>& nnz) {
   b.uu = grain_matrix(comm, g, local_grains, nnz);
   for (int a = 0; a < dim; ++a) {
     b.ue[a] = grain_vector(comm, local_grains * g);
@@ -44,10 +47,12 @@ template <int dim> void init_bordered(BorderedMatrix<dim>& b, MPI_Comm comm, Pet
 }
 
 /// Adds the m x m local block (unknowns u_i rho_i, u_j rho_j, e) at the grains' rows.
-template <int dim> void add_block(BorderedMatrix<dim>& b, const DynMatrix& block, const std::vector<PetscInt>& rows,
-                                  int g) {
+template <int dim>
+void add_block(BorderedMatrix<dim>& b, const DynMatrix& block, const std::vector<PetscInt>& rows,
+               int g) {
   const int two_g = 2 * g;
-  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> uu = block.topLeftCorner(two_g, two_g);
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> uu =
+      block.topLeftCorner(two_g, two_g);
   GRANPACK_PETSC(MatSetValues(b.uu, two_g, rows.data(), two_g, rows.data(), uu.data(), ADD_VALUES));
   for (int a = 0; a < dim; ++a) {
     const DynVector col = block.block(0, two_g + a, two_g, 1);
@@ -70,22 +75,26 @@ template <int dim> void finish_bordered(BorderedMatrix<dim>& b, MPI_Comm comm) {
   global_sum_in_place(comm, std::span<double>(b.ee.data(), dim * dim));
 }
 
-}  // namespace
+} // namespace
 
 template <int dim>
 RigidityContact<dim> make_rigidity_contact(const PackingView<dim>& v, const ContactView<dim>& c,
-                                           const ContactLaw<dim>& law, const RigidityLayout<dim>& layout) {
+                                           const ContactLaw<dim>& law,
+                                           const RigidityLayout<dim>& layout) {
   const auto& p = v.particles();
   RigidityContact<dim> rc;
-  rc.geometry = make_pair_geometry<dim>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], c.branch);
+  rc.geometry =
+      make_pair_geometry<dim>(p.radius[c.i], p.radius[c.j], p.mass[c.i], p.mass[c.j], c.branch);
   rc.normal_force = c.total_normal_force();
   rc.distant = c.distant;
   if (layout.rotations && !c.distant)
-    rc.tangential_force = c.tangential_force - c.tangential_force.dot(rc.geometry.normal) * rc.geometry.normal;
+    rc.tangential_force =
+        c.tangential_force - c.tangential_force.dot(rc.geometry.normal) * rc.geometry.normal;
   ContactState<dim> state;
   state.normal_force = c.normal_force;
   rc.stiffness = law.stiffness(rc.geometry, state);
-  if (layout.rolling && !c.distant) rc.rolling_moment = -rc.stiffness.k_r * c.rolling;
+  if (layout.rolling && !c.distant)
+    rc.rolling_moment = -rc.stiffness.k_r * c.rolling;
   return rc;
 }
 
@@ -104,25 +113,29 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   // Backbone grains and contacts of this rank, then the partition and numbering.
   std::vector<GlobalId> owned;
   for (std::size_t i = 0; i < p.n_owned(); ++i)
-    if (!v.rattler(i)) owned.push_back(p.id[i]);
+    if (!v.rattler(i))
+      owned.push_back(p.id[i]);
   std::vector<const ContactView<dim>*> mine;
   std::vector<std::pair<GlobalId, GlobalId>> edges;
   for (const auto& c : v.contacts)
-    if (on_backbone(v, c)) mine.push_back(&c), edges.emplace_back(p.id[c.i], p.id[c.j]);
+    if (on_backbone(v, c))
+      mine.push_back(&c), edges.emplace_back(p.id[c.i], p.id[c.j]);
   s.numbering = number_backbone_grains(v.world, owned, edges);
   const auto& num = s.numbering;
   s.contacts = global_sum(v.world, static_cast<std::int64_t>(mine.size()));
   PetscInt local_rows = 0;
   std::int64_t local_distant = 0;
-  for (const auto* c : mine) local_rows += s.layout.rows_per_contact(c->distant), local_distant += c->distant;
+  for (const auto* c : mine)
+    local_rows += s.layout.rows_per_contact(c->distant), local_distant += c->distant;
   s.distant = global_sum(v.world, local_distant);
   s.rows = global_sum(v.world, std::int64_t(local_rows));
 
   // Block nonzeros per owned grain row: 1 + its backbone contacts (counted where the rows live).
   OwnedVec counts = grain_vector(v.world, num.local);
-  collectively(v.world, [&] {  // at() throws on one rank if a grain were not numbered
+  collectively(v.world, [&] { // at() throws on one rank if a grain were not numbered
     for (const auto* c : mine) {
-      const PetscInt ij[2] = {PetscInt(num.index.at(p.id[c->i])), PetscInt(num.index.at(p.id[c->j]))};
+      const PetscInt ij[2] = {PetscInt(num.index.at(p.id[c->i])),
+                              PetscInt(num.index.at(p.id[c->j]))};
       const PetscScalar one[2] = {1.0, 1.0};
       GRANPACK_PETSC(VecSetValues(counts, 2, ij, one, ADD_VALUES));
     }
@@ -133,12 +146,14 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   {
     const PetscScalar* x = nullptr;
     GRANPACK_PETSC(VecGetArrayRead(counts, &x));
-    for (std::int64_t k = 0; k < num.local; ++k) nnz[k] = 1 + PetscInt(x[k]);
+    for (std::int64_t k = 0; k < num.local; ++k)
+      nnz[k] = 1 + PetscInt(x[k]);
     GRANPACK_PETSC(VecRestoreArrayRead(counts, &x));
   }
   init_bordered(s.k1, v.world, g, num.local, nnz);
   init_bordered(s.k, v.world, g, num.local, nnz);
-  if (s.has_gram()) init_bordered(s.gram, v.world, g, num.local, nnz);
+  if (s.has_gram())
+    init_bordered(s.gram, v.world, g, num.local, nnz);
 
   // G: this rank's contact rows; columns laid out like K_uu's rows, strains on the last rank.
   const int rank = rank_of(v.world), size = size_of(v.world);
@@ -162,50 +177,64 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   // A failure here (a contact without overlap, a grain missing from the numbering) is seen by
   // one rank only: collectively() makes every rank throw it before the next collective call.
   collectively(v.world, [&] {
-  for (const auto* c : mine) {
-    const RigidityContact<dim> rc = make_rigidity_contact(v, *c, law, s.layout);
-    if (c->distant) {
-      GRANPACK_CHECK(rc.stiffness.distant, "stiffness: the distant pair of grains " << p.id[c->i] << " and "
-                                               << p.id[c->j] << " is not within the cohesion range D0");
-    } else {
-      GRANPACK_CHECK(rc.stiffness.k_n > 0, "stiffness: a force-carrying contact between grains "
-                                               << p.id[c->i] << " and " << p.id[c->j] << " has no overlap");
-      sum_kn += rc.stiffness.k_n, ++touching;
-    }
+    for (const auto* c : mine) {
+      const RigidityContact<dim> rc = make_rigidity_contact(v, *c, law, s.layout);
+      if (c->distant) {
+        GRANPACK_CHECK(rc.stiffness.distant, "stiffness: the distant pair of grains "
+                                                 << p.id[c->i] << " and " << p.id[c->j]
+                                                 << " is not within the cohesion range D0");
+      } else {
+        GRANPACK_CHECK(rc.stiffness.k_n > 0, "stiffness: a force-carrying contact between grains "
+                                                 << p.id[c->i] << " and " << p.id[c->j]
+                                                 << " has no overlap");
+        sum_kn += rc.stiffness.k_n, ++touching;
+      }
 
-    const PetscInt gi = PetscInt(num.index.at(p.id[c->i])), gj = PetscInt(num.index.at(p.id[c->j]));
-    for (int d = 0; d < g; ++d) rows[d] = gi * g + d, rows[g + d] = gj * g + d;
-    const DynMatrix k1 = constitutive_block(rc, s.layout);
-    add_block(s.k1, k1, rows, g);
-    add_block(s.k, DynMatrix(k1 + geometric_block(rc, s.layout)), rows, g);
-    if (s.has_gram()) {
-      RigidityContact<dim> positive = rc;
-      positive.stiffness.k_n = std::abs(rc.stiffness.k_n);
-      add_block(s.gram, constitutive_block(positive, s.layout), rows, g);
-    }
+      const PetscInt gi = PetscInt(num.index.at(p.id[c->i])),
+                     gj = PetscInt(num.index.at(p.id[c->j]));
+      for (int d = 0; d < g; ++d)
+        rows[d] = gi * g + d, rows[g + d] = gj * g + d;
+      const DynMatrix k1 = constitutive_block(rc, s.layout);
+      add_block(s.k1, k1, rows, g);
+      add_block(s.k, DynMatrix(k1 + geometric_block(rc, s.layout)), rows, g);
+      if (s.has_gram()) {
+        RigidityContact<dim> positive = rc;
+        positive.stiffness.k_n = std::abs(rc.stiffness.k_n);
+        add_block(s.gram, constitutive_block(positive, s.layout), rows, g);
+      }
 
-    // G rows and the contact force.
-    std::copy(rows.begin(), rows.end(), cols.begin());
-    for (int a = 0; a < dim; ++a) cols[2 * g + a] = strain_col + a;
-    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> grows = rigidity_rows(rc, s.layout);
-    const int rows_c = s.layout.rows_per_contact(rc.distant);
-    std::vector<PetscInt> grow_idx(rows_c);
-    for (int k = 0; k < rows_c; ++k) grow_idx[k] = row + k;
-    GRANPACK_PETSC(MatSetValues(s.G, rows_c, grow_idx.data(), per_row, cols.data(), grows.data(), INSERT_VALUES));
-    const DynVector fc = contact_force_vector(rc, s.layout);
-    GRANPACK_PETSC(VecSetValues(s.f, rows_c, grow_idx.data(), fc.data(), INSERT_VALUES));
-    row += rows_c;
+      // G rows and the contact force.
+      std::copy(rows.begin(), rows.end(), cols.begin());
+      for (int a = 0; a < dim; ++a)
+        cols[2 * g + a] = strain_col + a;
+      const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> grows =
+          rigidity_rows(rc, s.layout);
+      const int rows_c = s.layout.rows_per_contact(rc.distant);
+      std::vector<PetscInt> grow_idx(rows_c);
+      for (int k = 0; k < rows_c; ++k)
+        grow_idx[k] = row + k;
+      GRANPACK_PETSC(MatSetValues(s.G, rows_c, grow_idx.data(), per_row, cols.data(), grows.data(),
+                                  INSERT_VALUES));
+      const DynVector fc = contact_force_vector(rc, s.layout);
+      GRANPACK_PETSC(VecSetValues(s.f, rows_c, grow_idx.data(), fc.data(), INSERT_VALUES));
+      row += rows_c;
 
-    // Divalent grains ([AR] fig. 14): their two contact points define the rolling mode.
-    if constexpr (dim == 3) {
-      if (s.layout.rotations) {
-        if (std::lround(v.backbone.counts[c->i]) == 2)
-          divalent.push_back({p.id[c->i], p.id[c->j], {rc.geometry.branch_i()[0], rc.geometry.branch_i()[1], rc.geometry.branch_i()[2]}});
-        if (std::lround(v.backbone.counts[c->j]) == 2)
-          divalent.push_back({p.id[c->j], p.id[c->i], {rc.geometry.branch_j()[0], rc.geometry.branch_j()[1], rc.geometry.branch_j()[2]}});
+      // Divalent grains ([AR] fig. 14): their two contact points define the rolling mode.
+      if constexpr (dim == 3) {
+        if (s.layout.rotations) {
+          if (std::lround(v.backbone.counts[c->i]) == 2)
+            divalent.push_back({p.id[c->i],
+                                p.id[c->j],
+                                {rc.geometry.branch_i()[0], rc.geometry.branch_i()[1],
+                                 rc.geometry.branch_i()[2]}});
+          if (std::lround(v.backbone.counts[c->j]) == 2)
+            divalent.push_back({p.id[c->j],
+                                p.id[c->i],
+                                {rc.geometry.branch_j()[0], rc.geometry.branch_j()[1],
+                                 rc.geometry.branch_j()[2]}});
+        }
       }
     }
-  }
   });
   GRANPACK_PETSC(MatAssemblyBegin(s.G, MAT_FINAL_ASSEMBLY));
   GRANPACK_PETSC(MatAssemblyEnd(s.G, MAT_FINAL_ASSEMBLY));
@@ -213,23 +242,28 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   GRANPACK_PETSC(VecAssemblyEnd(s.f));
   finish_bordered(s.k1, v.world);
   finish_bordered(s.k, v.world);
-  if (s.has_gram()) finish_bordered(s.gram, v.world);
-  s.mean_kn = global_sum(v.world, sum_kn) / std::max<std::int64_t>(1, global_sum(v.world, touching));
+  if (s.has_gram())
+    finish_bordered(s.gram, v.world);
+  s.mean_kn =
+      global_sum(v.world, sum_kn) / std::max<std::int64_t>(1, global_sum(v.world, touching));
 
   // Every rank gets every divalent record (a few per cent of the grains, 40 bytes each).
   s.divalent = allgather_concat(v.world, divalent);
   std::sort(s.divalent.begin(), s.divalent.end(), [](const auto& a, const auto& b) {
     return a.grain != b.grain ? a.grain < b.grain : a.neighbour < b.neighbour;
   });
-  s.assembly_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  s.assembly_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
 }
 
 template RigidityContact<2> make_rigidity_contact<2>(const PackingView<2>&, const ContactView<2>&,
-                                                     const ContactLaw<2>&, const RigidityLayout<2>&);
+                                                     const ContactLaw<2>&,
+                                                     const RigidityLayout<2>&);
 template RigidityContact<3> make_rigidity_contact<3>(const PackingView<3>&, const ContactView<3>&,
-                                                     const ContactLaw<3>&, const RigidityLayout<3>&);
+                                                     const ContactLaw<3>&,
+                                                     const RigidityLayout<3>&);
 template StiffnessSystem<2> assemble_stiffness<2>(const PackingView<2>&, const ContactLaw<2>&);
 template StiffnessSystem<3> assemble_stiffness<3>(const PackingView<3>&, const ContactLaw<3>&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -7,8 +7,8 @@
 namespace granpack {
 
 template <int dim>
-VirtualWork check_virtual_work(const StiffnessSystem<dim>& s, const Vec<dim>& prescribed_stress, double volume,
-                               bool relative_to_forces) {
+VirtualWork check_virtual_work(const StiffnessSystem<dim>& s, const Vec<dim>& prescribed_stress,
+                               double volume, bool relative_to_forces) {
   OwnedVec loads, ext;
   GRANPACK_PETSC(MatCreateVecs(s.G, loads.address(), nullptr));
   GRANPACK_PETSC(MatMultTranspose(s.G, s.f, loads));
@@ -35,14 +35,17 @@ VirtualWork check_virtual_work(const StiffnessSystem<dim>& s, const Vec<dim>& pr
     GRANPACK_PETSC(VecGetArrayRead(loads, &x));
     double local_max = 0;
     for (PetscInt i = first; i < last; ++i) {
-      if (i >= strain_col) strain[i - strain_col] = x[i - first];
-      else local_max = std::max(local_max, std::abs(x[i - first]));
+      if (i >= strain_col)
+        strain[i - strain_col] = x[i - first];
+      else
+        local_max = std::max(local_max, std::abs(x[i - first]));
     }
     GRANPACK_PETSC(VecRestoreArrayRead(loads, &x));
     w.max_grain_force = global_max(s.comm, local_max);
     global_sum_in_place(s.comm, strain);
   }
-  for (int a = 0; a < dim; ++a) w.stress_from_forces[a] = strain[a] * s.layout.cell[a] / volume;
+  for (int a = 0; a < dim; ++a)
+    w.stress_from_forces[a] = strain[a] * s.layout.cell[a] / volume;
 
   PetscReal ext_norm = 0, diff_norm = 0, strain_diff2 = 0;
   GRANPACK_PETSC(VecNorm(ext, NORM_2, &ext_norm));
@@ -53,7 +56,8 @@ VirtualWork check_virtual_work(const StiffnessSystem<dim>& s, const Vec<dim>& pr
     strain_diff2 += d * d;
   }
   PetscReal reference = ext_norm;
-  if (relative_to_forces) GRANPACK_PETSC(VecNorm(s.f, NORM_2, &reference));
+  if (relative_to_forces)
+    GRANPACK_PETSC(VecNorm(s.f, NORM_2, &reference));
   w.residual = diff_norm / reference;
   w.grain_residual = std::sqrt(std::max(0.0, diff_norm * diff_norm - strain_diff2)) / reference;
   return w;
@@ -62,4 +66,4 @@ VirtualWork check_virtual_work(const StiffnessSystem<dim>& s, const Vec<dim>& pr
 template VirtualWork check_virtual_work<2>(const StiffnessSystem<2>&, const Vec<2>&, double, bool);
 template VirtualWork check_virtual_work<3>(const StiffnessSystem<3>&, const Vec<3>&, double, bool);
 
-}  // namespace granpack
+} // namespace granpack

@@ -13,9 +13,9 @@
 #include "granpack/engine/checkpoint.h"
 #include "granpack/engine/material_law.h"
 #include "granpack/engine/md_engine.h"
+#include "granpack/engine/stress_control.h"
 #include "granpack/stages/stages.h"
 #include "granpack/stages/state_metrics.h"
-#include "granpack/engine/stress_control.h"
 
 namespace granpack {
 
@@ -26,7 +26,8 @@ std::string progress_line(std::int64_t step, double t, double phi, const Equilib
                           std::int64_t contacts, double steps_per_s, bool cohesive,
                           bool with_moment) {
   char moment[48] = "";
-  if (with_moment) std::snprintf(moment, sizeof moment, "  Gmax/F1a %.2e", m.moment);
+  if (with_moment)
+    std::snprintf(moment, sizeof moment, "  Gmax/F1a %.2e", m.moment);
   char buf[320];
   std::snprintf(buf, sizeof buf,
                 cohesive ? "  step %10lld  t %.4e s  phi %.5f  |dP|a/F1 %.2e  Fmax/F1 %.2e%s  "
@@ -37,7 +38,7 @@ std::string progress_line(std::int64_t step, double t, double phi, const Equilib
                 static_cast<long long>(contacts), steps_per_s);
   return buf;
 }
-}  // namespace
+} // namespace
 
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressStage& c) {
   using clock = std::chrono::steady_clock;
@@ -45,8 +46,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
   const auto& sample = ctx.deck->sample;
   const double a = sample.diameter, P = c.pressure;
   const double grain_mass = reference_grain_mass(ctx);
-  GRANPACK_CHECK(ctx.decomposition, "stage " << ctx.stage_index
-                                             << " (compress): there is no sample yet");
+  GRANPACK_CHECK(ctx.decomposition,
+                 "stage " << ctx.stage_index << " (compress): there is no sample yet");
 
   const double f0 = ctx.contact_law.cohesion_force;
   MdSettings<dim> s = deck_md_settings(ctx);
@@ -61,26 +62,29 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
 
   // kappa = K_N/P (or (E~/P)^(2/3)) is undefined at P = 0; [GRC]'s a K_N / F0 is logged.
   const std::optional<double> kappa =
-      P > 0 ? std::optional<double>(stiffness_number(ctx.contact_law, sample, dim, P)) : std::nullopt;
+      P > 0 ? std::optional<double>(stiffness_number(ctx.contact_law, sample, dim, P))
+            : std::nullopt;
   {
     char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "  P = %.6g Pa, kappa = %.6g, mu = %g, zeta = %g, I_max = %s, strain rate max = %s, "
-                  "M = %g x grain mass%s, dt = %.4g s",
-                  P, kappa.value_or(std::numeric_limits<double>::infinity()), ctx.contact_law.friction, ctx.contact_law.damping_ratio,
-                  c.inertia_max ? std::to_string(*c.inertia_max).c_str() : "none",
-                  std::isfinite(s.cell.max_strain_rate) ? (std::to_string(s.cell.max_strain_rate) + " 1/s").c_str()
-                                                        : "none",
-                  c.cell_mass,
-                  c.cell_mass_per_length ? " x a/L0" : "", s.dt);
+    std::snprintf(
+        buf, sizeof buf,
+        "  P = %.6g Pa, kappa = %.6g, mu = %g, zeta = %g, I_max = %s, strain rate max = %s, "
+        "M = %g x grain mass%s, dt = %.4g s",
+        P, kappa.value_or(std::numeric_limits<double>::infinity()), ctx.contact_law.friction,
+        ctx.contact_law.damping_ratio,
+        c.inertia_max ? std::to_string(*c.inertia_max).c_str() : "none",
+        std::isfinite(s.cell.max_strain_rate)
+            ? (std::to_string(s.cell.max_strain_rate) + " 1/s").c_str()
+            : "none",
+        c.cell_mass, c.cell_mass_per_length ? " x a/L0" : "", s.dt);
     ctx.log->info(buf);
     const ContactLawParams& mat = ctx.contact_law;
     if (mat.cohesion_force > 0) {
       // [GRC] sec. II C: P* = P a^(dim-1) / F0 and kappa = a K_N / F0 (Hertz: (E~ a^2/F0)^(2/3)).
-      const double kappa_f0 =
-          mat.normal == NormalLawKind::kLinear
-              ? a * mat.k_n / f0
-              : hertz_cohesive_stiffness_number(e_tilde_of(mat.young_modulus, mat.poisson_ratio), a, f0);
+      const double kappa_f0 = mat.normal == NormalLawKind::kLinear
+                                  ? a * mat.k_n / f0
+                                  : hertz_cohesive_stiffness_number(
+                                        e_tilde_of(mat.young_modulus, mat.poisson_ratio), a, f0);
       std::snprintf(buf, sizeof buf,
                     "  cohesion: F0 = %.6g N, D0/a = %.3g, P* = %.6g, kappa = a K_N/F0 = %.6g, "
                     "V* = sqrt(F0 D0 / m) = %.4g m/s, T0 = sqrt(m a / F0) = %.4g s",
@@ -98,8 +102,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
   }
 
   // [AR] sec. III scales (a^2 P, P, P a^3), or [GRC] II D's built on F1 = max(F0, P a).
-  const EquilibriumScales scales =
-      EquilibriumScales::of(dim, a, P, ctx.contact_law.cohesion_force);
+  const EquilibriumScales scales = EquilibriumScales::of(dim, a, P, ctx.contact_law.cohesion_force);
   const double force_scale = scales.force;
   const bool with_moment = c.tolerance.checks_moment();
   const bool cohesive = ctx.contact_law.cohesion_force > 0;
@@ -123,7 +126,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
     s.cell.mass = exact_double(resume.at("cell_mass"));
     // A zero or negative cell mass never reaches the target stress (the run would not end).
     if (!(s.cell.mass > 0) || !std::isfinite(s.cell.mass))
-      throw InputError("the --restart checkpoint's compress frame holds cell_mass = " + std::to_string(s.cell.mass) +
+      throw InputError("the --restart checkpoint's compress frame holds cell_mass = " +
+                       std::to_string(s.cell.mass) +
                        " kg (need a positive finite mass): a damaged checkpoint");
   }
   StageFrame<dim> frame(ctx, [&] {
@@ -147,8 +151,9 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
     if (after_step) {
       after_step = false;
       for (int k = 0; k < dim; ++k)
-        inertia_reached = std::max(inertia_reached, std::abs(ctx.system.cell.rate[k] /
-                                                             ctx.system.cell.length[k]) * inertia_time);
+        inertia_reached =
+            std::max(inertia_reached,
+                     std::abs(ctx.system.cell.rate[k] / ctx.system.cell.length[k]) * inertia_time);
       continue;
     }
     const std::int64_t done = ctx.system.step - first_step;
@@ -171,7 +176,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
           p.velocity[i].setZero();
           p.angular_velocity[i].setZero();
         }
-        if (c.quench_always) ctx.system.cell.rate.setZero();
+        if (c.quench_always)
+          ctx.system.cell.rate.setZero();
         last_quench = ctx.system.step;
         ++quenches;
         if (!c.quench_always)
@@ -183,15 +189,17 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
                             std::to_string(c.quench_interval) + " steps from now on");
       }
     }
-    if (c.max_steps > 0 && done >= c.max_steps) break;
+    if (c.max_steps > 0 && done >= c.max_steps)
+      break;
     if (done % log_every == 0) {
       const auto now = clock::now();
       const double secs = std::chrono::duration<double>(now - last_log).count();
       const double rate = secs > 0 ? double(ctx.system.step - last_log_step) / secs : 0.0;
       const double phi = ctx.solid_fraction();
-      ctx.log->progress(progress_line(ctx.system.step, ctx.system.time, phi, m,
-                                      engine.observables().contacts, rate, cohesive, with_moment) +
-                        eta.update(m, ctx.system.step, rate, c.max_steps > 0 ? first_step + c.max_steps : -1));
+      ctx.log->progress(
+          progress_line(ctx.system.step, ctx.system.time, phi, m, engine.observables().contacts,
+                        rate, cohesive, with_moment) +
+          eta.update(m, ctx.system.step, rate, c.max_steps > 0 ? first_step + c.max_steps : -1));
       last_log = now;
       last_log_step = ctx.system.step;
     }
@@ -210,13 +218,15 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
   r.phi = ctx.solid_fraction();
   r.pressure = engine.observables().stress_elastic.trace() / dim;
   r.kappa = kappa;
-  if (P > 0) r.inertia_max = inertia_reached;
+  if (P > 0)
+    r.inertia_max = inertia_reached;
   r.z = sm.z;
   r.z_star = sm.z_star;
   r.x0 = sm.x0;
   r.x2 = sm.x2;
   r.z2 = sm.z2;
-  if (c.quench_interval > 0) r.values.emplace_back("quenches", double(quenches));
+  if (c.quench_interval > 0)
+    r.values.emplace_back("quenches", double(quenches));
   if (cohesive) {
     const CohesiveCoordination cc =
         cohesive_coordination(ctx, engine, c.tolerance.force * force_scale);
@@ -234,12 +244,13 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
   ctx.stress_target = StressTarget{ctx.stage_index, c.stress, c.fixed, P};
   {
     char buf[320];
-    std::snprintf(buf, sizeof buf,
-                  "  %s: phi %.6f, P %.6g Pa, z %.4f, z* %.4f, x0 %.4f, x2 %.4f, Z(2) %.4f, I reached %.3g, "
-                  "%lld list rebuilds",
-                  equilibrated ? "equilibrated" : "NOT equilibrated (max_steps reached)", *r.phi,
-                  *r.pressure, sm.z, sm.z_star, sm.x0, sm.x2, sm.z2, inertia_reached,
-                  static_cast<long long>(engine.rebuilds()));
+    std::snprintf(
+        buf, sizeof buf,
+        "  %s: phi %.6f, P %.6g Pa, z %.4f, z* %.4f, x0 %.4f, x2 %.4f, Z(2) %.4f, I reached %.3g, "
+        "%lld list rebuilds",
+        equilibrated ? "equilibrated" : "NOT equilibrated (max_steps reached)", *r.phi, *r.pressure,
+        sm.z, sm.z_star, sm.x0, sm.x2, sm.z2, inertia_reached,
+        static_cast<long long>(engine.rebuilds()));
     ctx.log->info(buf);
   }
   r.wall_seconds = std::chrono::duration<double>(clock::now() - t0).count();
@@ -249,4 +260,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const CompressSta
 template StageReport run_stage<2>(RunContext<2>&, const CompressStage&);
 template StageReport run_stage<3>(RunContext<3>&, const CompressStage&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -33,4 +33,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const ExpandStage
 template StageReport run_stage<2>(RunContext<2>&, const ExpandStage&);
 template StageReport run_stage<3>(RunContext<3>&, const ExpandStage&);
 
-}  // namespace granpack
+} // namespace granpack

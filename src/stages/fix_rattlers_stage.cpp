@@ -23,9 +23,9 @@
 #include "granpack/contact/derived_constants.h"
 #include "granpack/core/error.h"
 #include "granpack/engine/checkpoint.h"
-#include "granpack/packing/backbone.h"
 #include "granpack/engine/material_law.h"
 #include "granpack/engine/md_engine.h"
+#include "granpack/packing/backbone.h"
 #include "granpack/stages/stages.h"
 
 namespace granpack {
@@ -38,7 +38,8 @@ template <int dim> Vec<dim> push_direction(GlobalId id, std::uint64_t seed) {
   std::normal_distribution<double> normal(0.0, 1.0);
   Vec<dim> u;
   do {
-    for (int k = 0; k < dim; ++k) u[k] = normal(rng);
+    for (int k = 0; k < dim; ++k)
+      u[k] = normal(rng);
   } while (u.norm() < 1e-3);
   return u.normalized();
 }
@@ -50,7 +51,7 @@ std::vector<GlobalId> all_ids(MPI_Comm comm, const std::vector<GlobalId>& mine) 
   return all;
 }
 
-}  // namespace
+} // namespace
 
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlersStage& f) {
   const double P = f.pressure ? *f.pressure : ctx.stress_target.pressure;
@@ -91,29 +92,35 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
     // 1. The rattlers of the current state, by the rule of the compress stages.
     MdEngine<dim> engine(ctx, make_contact_law<dim>(ctx.contact_law), s);
     std::vector<CarryingContact> carrying;
-    const double threshold = 1e-4 * force_scale;  // [AR] force tolerance
-    engine.for_each_contact([&](std::size_t i, std::size_t j, const Vec<dim>&,
-                                const ContactState<dim>& st) {
-      if (st.normal_force > threshold) carrying.push_back({i, j, st.normal_force});
-    });
+    const double threshold = 1e-4 * force_scale; // [AR] force tolerance
+    engine.for_each_contact(
+        [&](std::size_t i, std::size_t j, const Vec<dim>&, const ContactState<dim>& st) {
+          if (st.normal_force > threshold)
+            carrying.push_back({i, j, st.normal_force});
+        });
     const Backbone b = find_backbone(ctx.system.particles, engine.halo(), *ctx.decomposition,
                                      carrying, min_contacts);
     std::vector<GlobalId> mine;
     for (std::size_t i = 0; i < ctx.system.particles.n_owned(); ++i)
-      if (b.rattler[i]) mine.push_back(ctx.system.particles.id[i]);
+      if (b.rattler[i])
+        mine.push_back(ctx.system.particles.id[i]);
     rattlers = all_ids(ctx.world, mine);
   }
   // The stage-start state of every contact (on a restart: the checkpoint's, whose contacts
   // between frozen grains hold it; the others are not used).
   const ContactStore<dim> saved = ctx.system.contacts;
-  auto is_rattler = [&](GlobalId id) { return std::binary_search(rattlers.begin(), rattlers.end(), id); };
+  auto is_rattler = [&](GlobalId id) {
+    return std::binary_search(rattlers.begin(), rattlers.end(), id);
+  };
   // Contacts between two frozen grains get their stage-start state back.
   auto restore_backbone_contacts = [&] {
     for (std::size_t k = 0; k < ctx.system.contacts.size(); ++k) {
       const ContactKey& key = ctx.system.contacts.key(k);
-      if (is_rattler(key.first) || is_rattler(key.second)) continue;
+      if (is_rattler(key.first) || is_rattler(key.second))
+        continue;
       const auto old = saved.find(key);
-      if (old >= 0) ctx.system.contacts.state(k) = saved.state(static_cast<std::size_t>(old));
+      if (old >= 0)
+        ctx.system.contacts.state(k) = saved.state(static_cast<std::size_t>(old));
     }
   };
 
@@ -123,7 +130,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
   s.mobile = &rattlers;
   // The pushes, drawn once per rattler (in the order of the sorted ids), not at every step.
   std::vector<Vec<dim>> pushes(rattlers.size());
-  for (std::size_t k = 0; k < rattlers.size(); ++k) pushes[k] = push * push_direction<dim>(rattlers[k], f.seed);
+  for (std::size_t k = 0; k < rattlers.size(); ++k)
+    pushes[k] = push * push_direction<dim>(rattlers[k], f.seed);
   s.body_force = [&](GlobalId id) -> Vec<dim> {
     const auto it = std::lower_bound(rattlers.begin(), rattlers.end(), id);
     return pushes[static_cast<std::size_t>(it - rattlers.begin())];
@@ -147,7 +155,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
   std::ostringstream head;
   head << "  " << rattlers.size() << " rattlers pushed by " << f.force
        << " a^2 P onto the frozen backbone (frictionless), dt " << s.dt << " s";
-  if (resuming) head << "; resumed after " << steps << " steps of the stage";
+  if (resuming)
+    head << "; resumed after " << steps << " steps of the stage";
   ctx.log->info(head.str());
   bool step_completed = resuming;
   while (true) {
@@ -163,7 +172,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
       }
       worst = global_max(ctx.world, local_f) / push;
       ek = global_sum(ctx.world, local_e) / std::max<double>(1.0, double(rattlers.size()));
-      if (steps > 0 && worst < f.tolerance && ek < ek_limit) break;
+      if (steps > 0 && worst < f.tolerance && ek < ek_limit)
+        break;
       if (steps % (50 * 400) == 0) {
         std::ostringstream os;
         os << "  step " << steps << ": max net force on a rattler / push " << worst
@@ -171,7 +181,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
         ctx.log->progress(os.str());
       }
     }
-    if (f.max_steps > 0 && steps >= f.max_steps) break;
+    if (f.max_steps > 0 && steps >= f.max_steps)
+      break;
     engine.step();
     step_completed = true;
   }
@@ -181,9 +192,11 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
   //    (any contact carrying force) is treatment II's x_i.
   restore_backbone_contacts();
   std::vector<double> count(p.size(), 0.0);
-  engine.for_each_contact([&](std::size_t i, std::size_t j, const Vec<dim>&, const ContactState<dim>& st) {
-    if (st.normal_force > 0) count[i] += 1, count[j] += 1;
-  });
+  engine.for_each_contact(
+      [&](std::size_t i, std::size_t j, const Vec<dim>&, const ContactState<dim>& st) {
+        if (st.normal_force > 0)
+          count[i] += 1, count[j] += 1;
+      });
   engine.halo().reverse_values(count, *ctx.decomposition);
   constexpr int max_z = 13;
   std::vector<std::int64_t> hist(max_z + 1, 0);
@@ -191,7 +204,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
   for (std::size_t i = 0; i < p.n_owned(); ++i) {
     const int z = std::min(max_z, static_cast<int>(std::lround(count[i])));
     ++hist[static_cast<std::size_t>(z)];
-    if (is_rattler(p.id[i]) && z >= dim) ++resting;
+    if (is_rattler(p.id[i]) && z >= dim)
+      ++resting;
   }
   global_sum_in_place(ctx.world, hist);
   resting = global_sum(ctx.world, resting);
@@ -213,7 +227,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
     key += std::to_string(z);
     key += "_II";
     r.values.emplace_back(key, double(hist[std::size_t(z)]) / n);
-    if (hist[std::size_t(z)]) os << " " << z << ":" << 100.0 * double(hist[std::size_t(z)]) / n;
+    if (hist[std::size_t(z)])
+      os << " " << z << ":" << 100.0 * double(hist[std::size_t(z)]) / n;
   }
   ctx.log->info(os.str());
   return r;
@@ -222,4 +237,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
 template StageReport run_stage<2>(RunContext<2>&, const FixRattlersStage&);
 template StageReport run_stage<3>(RunContext<3>&, const FixRattlersStage&);
 
-}  // namespace granpack
+} // namespace granpack

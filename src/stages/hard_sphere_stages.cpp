@@ -37,9 +37,9 @@
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/dynamics/hard_sphere_md.h"
-#include "granpack/io/base64.h"
 #include "granpack/engine/checkpoint.h"
 #include "granpack/engine/stop_signals.h"
+#include "granpack/io/base64.h"
 #include "granpack/stages/stages.h"
 
 namespace granpack {
@@ -56,7 +56,8 @@ std::vector<Vec<dim>> maxwell_velocities(const std::vector<Particle<dim>>& g, do
   Vec<dim> momentum = Vec<dim>::Zero();
   double mass = 0;
   for (std::size_t i = 0; i < g.size(); ++i) {
-    for (int k = 0; k < dim; ++k) v[i][k] = normal(rng) / std::sqrt(g[i].mass);
+    for (int k = 0; k < dim; ++k)
+      v[i][k] = normal(rng) / std::sqrt(g[i].mass);
     momentum += g[i].mass * v[i];
     mass += g[i].mass;
   }
@@ -66,7 +67,8 @@ std::vector<Vec<dim>> maxwell_velocities(const std::vector<Particle<dim>>& g, do
     m2 += g[i].mass * v[i].squaredNorm();
   }
   const double scale = a / std::sqrt(m2 / mass);
-  for (auto& x : v) x *= scale;
+  for (auto& x : v)
+    x *= scale;
   return v;
 }
 
@@ -101,7 +103,8 @@ void scatter_back(RunContext<dim>& ctx, std::vector<Particle<dim>>& g,
   auto& p = ctx.system.particles;
   p.clear_ghosts();
   std::vector<std::size_t> all(p.n_owned());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    all[i] = i;
   p.remove_owned(all);
   for (std::size_t i = 0; i < g.size(); ++i) {
     g[i].position = ctx.system.cell.to_scaled(real_positions[i]);
@@ -128,15 +131,19 @@ template <int dim> void run_in_pieces(RunContext<dim>& ctx, const std::function<
   for (std::int64_t pieces = 1;; ++pieces) {
     int bits = 0;
     collectively(ctx.world, [&] {
-      if (rank == 0 && piece()) bits |= kFinished;
+      if (rank == 0 && piece())
+        bits |= kFinished;
     });
     // Test-only (GRANPACK_FAULT=piece:N / piece_hold:N): a kill or a stop at a chosen piece.
     fault_point(FaultPoint::kPiece, pieces);
-    if (fault_point(FaultPoint::kPieceHold, pieces)) wait_for_stop_signal();
-    if (ctx.checkpointer) bits |= ctx.checkpointer->clock_request();
+    if (fault_point(FaultPoint::kPieceHold, pieces))
+      wait_for_stop_signal();
+    if (ctx.checkpointer)
+      bits |= ctx.checkpointer->clock_request();
     bits = global_bit_or(ctx.world, bits);
     // Once the engine is done, a pending stop is honoured after the stage (run_deck).
-    if (bits & kFinished) return;
+    if (bits & kFinished)
+      return;
     if (bits & kRequestCheckpoint) {
       ctx.checkpointer->write(ctx, true);
       ctx.checkpointer->stop_if_requested(bits, ctx.system.step);
@@ -149,21 +156,23 @@ template <int dim>
 HardSphereMD<dim> resume_engine(const RunContext<dim>& ctx, const nlohmann::json& frame,
                                 std::size_t n) {
   try {
-    auto gas = HardSphereMD<dim>::restore_state(base64_decode(frame.at("engine").get<std::string>()));
+    auto gas =
+        HardSphereMD<dim>::restore_state(base64_decode(frame.at("engine").get<std::string>()));
     if (gas.size() != n || gas.box() != ctx.system.cell.length)
       throw Error("it holds " + std::to_string(gas.size()) + " grains in another cell");
     return gas;
   } catch (const std::exception& e) {
     throw InputError("stage " + std::to_string(ctx.stage_index) + " (" + ctx.stage_name +
-                     "): the checkpoint's saved event-driven state cannot be resumed (" +
-                     e.what() + ")");
+                     "): the checkpoint's saved event-driven state cannot be resumed (" + e.what() +
+                     ")");
   }
 }
 
 /// The frame of a resumed stage of kind `kind` (null if not resuming). No MD step to finish.
 template <int dim> nlohmann::json take_frame(RunContext<dim>& ctx, const char* kind) {
   nlohmann::json f = ctx.take_resume_frame();
-  if (f.is_null()) return f;
+  if (f.is_null())
+    return f;
   ctx.resume_mid_step = false;
   if (f.value("stage", "") != kind)
     throw InputError("stage " + std::to_string(ctx.stage_index) + " (" + ctx.stage_name +
@@ -188,7 +197,7 @@ template <int dim> void require_sample(const RunContext<dim>& ctx) {
                                                 "stage must come first)");
 }
 
-}  // namespace
+} // namespace
 
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage& e) {
   require_sample(ctx);
@@ -205,28 +214,32 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage&
   BraggPeaks<dim> peaks;
   bool order_measured = false;
   collectively(ctx.world, [&] {
-    if (rank != 0) return;
+    if (rank != 0)
+      return;
     total = std::llround(0.5 * e.collisions_per_grain * static_cast<double>(g.size()));
     if (!resume.is_null()) {
       gas.emplace(resume_engine(ctx, resume, g.size()));
       order_measured = resume.contains("bragg_peaks");
       if (order_measured)
-        for (const auto& m : resume["bragg_peaks"]) peaks.m.push_back(m.get<std::array<int, dim>>());
+        for (const auto& m : resume["bragg_peaks"])
+          peaks.m.push_back(m.get<std::array<int, dim>>());
     } else {
       gas.emplace(make_gas(ctx, g, e.seed));
       gas->reset_pressure();
       order_measured = g.size() <= kMaxOrderGrains;
       if (order_measured) {
         const auto x0 = gas->positions();
-        peaks = find_bragg_peaks<dim>(x0, ctx.system.cell.length, bragg_index_max<dim>(g.size()),
-                                      0.5);
+        peaks =
+            find_bragg_peaks<dim>(x0, ctx.system.cell.length, bragg_index_max<dim>(g.size()), 0.5);
       }
     }
   });
   StageFrame<dim> frame(ctx, [&] {
     nlohmann::json f{{"stage", "ed_gas"}};
-    if (gas) f["engine"] = base64_encode(gas->save_state());
-    if (order_measured) f["bragg_peaks"] = peaks.m;
+    if (gas)
+      f["engine"] = base64_encode(gas->save_state());
+    if (order_measured)
+      f["bragg_peaks"] = peaks.m;
     return f;
   });
   run_in_pieces(ctx, [&] {
@@ -234,7 +247,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage&
     return gas->collisions() >= total;
   });
   collectively(ctx.world, [&] {
-    if (rank != 0) return;
+    if (rank != 0)
+      return;
     GRANPACK_CHECK(gas->min_relative_gap() > -1e-9, "the hard-sphere gas developed an overlap");
     const auto n = static_cast<double>(g.size());
     stats[0] = static_cast<double>(gas->collisions());
@@ -263,8 +277,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage&
   if (stats[3] >= 0) {
     std::ostringstream lo;
     lo << "  order left of the starting lattice: mean rho_k " << stats[3] << " over its "
-       << stats[4] << " Bragg peaks (uncorrelated positions: about " << 1.0 / std::sqrt(n)
-       << ")";
+       << stats[4] << " Bragg peaks (uncorrelated positions: about " << 1.0 / std::sqrt(n) << ")";
     ctx.log->info(lo.str());
     r.values.emplace_back("lattice_order", stats[3]);
     r.values.emplace_back("lattice_order_random", 1.0 / std::sqrt(n));
@@ -288,7 +301,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressS
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<double> targets;
   for (double p : l.report_phi)
-    if (p > phi0) targets.push_back(p);
+    if (p > phi0)
+      targets.push_back(p);
   targets.push_back(l.phi);
   // The growth's progress through the targets: the one in progress (targets[next - 1] once
   // begun), the collision count when it began, the initial radius of grain 0.
@@ -298,7 +312,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressS
   const nlohmann::json resume = take_frame(ctx, "ls_compress");
   std::optional<HardSphereMD<dim>> gas;
   collectively(ctx.world, [&] {
-    if (rank != 0) return;
+    if (rank != 0)
+      return;
     if (resume.is_null()) {
       gas.emplace(make_gas(ctx, g, l.seed));
       r0 = gas->radii().front();
@@ -312,17 +327,20 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressS
     if (next > targets.size() || done.size() != stats.size())
       throw InputError("stage " + std::to_string(ctx.stage_index) + " (" + ctx.stage_name +
                        "): the checkpoint's frame does not match this stage's targets");
-    for (std::size_t k = 0; k < stats.size(); ++k) stats[k] = exact_double(done[k]);
+    for (std::size_t k = 0; k < stats.size(); ++k)
+      stats[k] = exact_double(done[k]);
   });
   StageFrame<dim> frame(ctx, [&] {
     nlohmann::json f{{"stage", "ls_compress"}};
-    if (!gas) return f;
+    if (!gas)
+      return f;
     f["engine"] = base64_encode(gas->save_state());
     f["next"] = next;
     f["before"] = before;
     f["r0"] = exact(r0);
     f["stats"] = nlohmann::json::array();
-    for (double v : stats) f["stats"].push_back(exact(v));
+    for (double v : stats)
+      f["stats"].push_back(exact(v));
     return f;
   });
   const auto n = static_cast<double>(g.size());
@@ -332,19 +350,21 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressS
   auto last_log = std::chrono::steady_clock::now();
   auto progress = [&](const HardSphereMD<dim>& s) {
     const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last_log).count() < 10) return;
+    if (std::chrono::duration<double>(now - last_log).count() < 10)
+      return;
     last_log = now;
     std::ostringstream os;
     os << "  LS: phi " << s.solid_fraction() << ", " << 2 * double(s.collisions()) / n
        << " collisions per grain";
     ctx.log->progress(os.str());
   };
-  const std::size_t first_interval = intervals - targets.size();  // passed ones count zero
+  const std::size_t first_interval = intervals - targets.size(); // passed ones count zero
   run_in_pieces(ctx, [&] {
     if (!gas->growing()) {
       if (next > 0) // the growth to targets[next - 1] has ended
         stats[first_interval + next - 1] = 2 * double(gas->collisions() - before) / n;
-      if (next == targets.size()) return true;
+      if (next == targets.size())
+        return true;
       before = gas->collisions();
       gas->begin_growth(targets[next++], rate, l.rescale_every);
     }
@@ -352,7 +372,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressS
     return false;
   });
   collectively(ctx.world, [&] {
-    if (rank != 0) return;
+    if (rank != 0)
+      return;
     GRANPACK_CHECK(gas->min_relative_gap() > -1e-9, "the hard-sphere growth developed an overlap");
     stats[intervals] = gas->radii().front() / r0;
     x = gas->positions();
@@ -360,7 +381,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressS
   broadcast_in_place(ctx.world, stats);
   // The grains keep their diameter: the cell shrinks by the growth factor instead.
   const double growth = stats[intervals];
-  for (auto& xi : x) xi /= growth;
+  for (auto& xi : x)
+    xi /= growth;
   ctx.system.cell.length /= growth;
   scatter_back(ctx, g, x);
 
@@ -370,7 +392,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressS
      << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()
      << " s); collisions per grain:";
   std::vector<double> bounds = {phi0};
-  for (double p : l.report_phi) bounds.push_back(p);
+  for (double p : l.report_phi)
+    bounds.push_back(p);
   bounds.push_back(l.phi);
   for (std::size_t k = 0; k < intervals; ++k) {
     std::ostringstream key;
@@ -388,4 +411,4 @@ template StageReport run_stage<3>(RunContext<3>&, const EdGasStage&);
 template StageReport run_stage<2>(RunContext<2>&, const LsCompressStage&);
 template StageReport run_stage<3>(RunContext<3>&, const LsCompressStage&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -19,7 +19,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LatticeStag
                           << ctx.system.particles.size() << " grains exist already");
 
   std::vector<Vec<dim>> basis;
-  Vec<dim> unit;  // unit cell edge lengths
+  Vec<dim> unit; // unit cell edge lengths
   if constexpr (dim == 3) {
     double A = a * std::cbrt(4.0 * pi / (6.0 * p.phi));
     unit = Vec<3>(A, A, A);
@@ -30,7 +30,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LatticeStag
     basis = {Vec<2>(0, 0), Vec<2>(0.5, 0.5)};
   }
   Vec<dim> ncell;
-  for (int k = 0; k < dim; ++k) ncell[k] = double(p.cells[k]);
+  for (int k = 0; k < dim; ++k)
+    ncell[k] = double(p.cells[k]);
   ctx.system.cell.length = unit.cwiseProduct(ncell);
   ctx.system.cell.rate.setZero();
   ctx.decomposition = std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
@@ -38,10 +39,11 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LatticeStag
   const double mass = HomogeneousGrain<dim>::mass(ctx.deck->material.density, a);
   const double inertia = HomogeneousGrain<dim>::inertia(mass, a);
   std::int64_t total = 1;
-  for (auto c : p.cells) total *= c;
+  for (auto c : p.cells)
+    total *= c;
   GlobalId id = 0;
   for (std::int64_t flat = 0; flat < total; ++flat) {
-    Vec<dim> c;  // unit cell indices, last axis fastest
+    Vec<dim> c; // unit cell indices, last axis fastest
     std::int64_t rest = flat;
     for (int k = dim - 1; k >= 0; --k) {
       c[k] = double(rest % p.cells[k]);
@@ -70,4 +72,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LatticeStag
 template StageReport run_stage<2>(RunContext<2>&, const LatticeStage&);
 template StageReport run_stage<3>(RunContext<3>&, const LatticeStage&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -17,7 +17,7 @@ template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx) {
   const auto& sample = ctx.deck->sample;
   ContactLawParams soft;
   soft.normal = NormalLawKind::kLinear;
-  soft.k_n = 1.0;  // the quench makes the result independent of its value
+  soft.k_n = 1.0; // the quench makes the result independent of its value
   soft.tangential = TangentialStiffnessKind::kRatio;
   soft.k_t_ratio = 0.0;
   soft.friction = 0.0;
@@ -27,11 +27,11 @@ template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx) {
   s.dt = 0.2 * contact_duration(soft, ctx.deck->material.density, sample, dim, 1.0);
   s.skin = 0.2 * sample.diameter;
   s.stress_control = false;
-  s.max_overlap = std::numeric_limits<double>::infinity();  // removing them is the point
+  s.max_overlap = std::numeric_limits<double>::infinity(); // removing them is the point
   // Deep overlaps push grains far in one step; velocities are quenched after every step.
   s.max_step_displacement = std::numeric_limits<double>::infinity();
   MdEngine<dim> engine(ctx, make_contact_law<dim>(soft), s);
-  const double target = 1e-9;  // largest overlap / radius accepted
+  const double target = 1e-9; // largest overlap / radius accepted
   const std::int64_t max_steps = 1000000;
   std::int64_t steps = 0;
   auto& p = ctx.system.particles;
@@ -39,8 +39,7 @@ template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx) {
     GRANPACK_CHECK(steps < max_steps,
                    "stage " << ctx.stage_index << " (random): overlaps not removed after "
                             << max_steps << " steps (largest overlap/radius "
-                            << engine.observables().max_overlap
-                            << "); lower phi");
+                            << engine.observables().max_overlap << "); lower phi");
     engine.step();
     for (std::size_t i = 0; i < p.n_owned(); ++i) {
       p.velocity[i].setZero();
@@ -60,4 +59,4 @@ template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx) {
 template StageReport remove_overlaps<2>(RunContext<2>&);
 template StageReport remove_overlaps<3>(RunContext<3>&);
 
-}  // namespace granpack
+} // namespace granpack

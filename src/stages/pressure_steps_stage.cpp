@@ -26,24 +26,33 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const PressureSte
     k = resume.at("level").get<std::int64_t>();
     p0 = exact_double(resume.at("p0"));
     stress0.clear();
-    for (const auto& v : resume.at("stress0")) stress0.push_back(exact_double(v));
-    for (const auto& l : resume.at("levels")) r.levels.push_back(stage_report_from_json(l.dump()));
-    for (const auto& l : r.levels) r.steps += l.steps, r.time += l.time;
+    for (const auto& v : resume.at("stress0"))
+      stress0.push_back(exact_double(v));
+    for (const auto& l : resume.at("levels"))
+      r.levels.push_back(stage_report_from_json(l.dump()));
+    for (const auto& l : r.levels)
+      r.steps += l.steps, r.time += l.time;
   }
   StageFrame<dim> frame(ctx, [&] {
     nlohmann::json levels = nlohmann::json::array();
-    for (const auto& l : r.levels) levels.push_back(nlohmann::json::parse(stage_report_json(l)));
+    for (const auto& l : r.levels)
+      levels.push_back(nlohmann::json::parse(stage_report_json(l)));
     nlohmann::json s0 = nlohmann::json::array();
-    for (double v : stress0) s0.push_back(exact(v));
-    return nlohmann::json{{"stage", "pressure_steps"}, {"level", k}, {"levels", levels},
-                          {"p0", exact(p0)}, {"stress0", s0}};
+    for (double v : stress0)
+      s0.push_back(exact(v));
+    return nlohmann::json{{"stage", "pressure_steps"},
+                          {"level", k},
+                          {"levels", levels},
+                          {"p0", exact(p0)},
+                          {"stress0", s0}};
   });
   for (; k <= ps.count; ++k) {
     const double scale = std::pow(ps.factor, static_cast<double>(k));
     CompressStage c = ps.compress;
     c.fixed = fixed0;
     c.stress.clear();
-    for (double s : stress0) c.stress.push_back(s * scale);
+    for (double s : stress0)
+      c.stress.push_back(s * scale);
     c.pressure = p0 * scale;
     std::ostringstream os;
     os << "  level " << k << "/" << ps.count << ": P = " << c.pressure << " Pa";
@@ -64,7 +73,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const PressureSte
   // The stage's own entry describes its final level.
   const StageReport& last = r.levels.back();
   r.equilibrated = true;
-  for (const auto& l : r.levels) r.equilibrated = *r.equilibrated && l.equilibrated.value_or(false);
+  for (const auto& l : r.levels)
+    r.equilibrated = *r.equilibrated && l.equilibrated.value_or(false);
   r.phi = last.phi;
   r.inertia_max = last.inertia_max;
   r.copy_state_metrics(last);
@@ -74,4 +84,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const PressureSte
 template StageReport run_stage<2>(RunContext<2>&, const PressureStepsStage&);
 template StageReport run_stage<3>(RunContext<3>&, const PressureStepsStage&);
 
-}  // namespace granpack
+} // namespace granpack

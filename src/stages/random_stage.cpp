@@ -27,7 +27,9 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const RandomStage
   // Diameters first (the cell size depends on their total volume), then positions.
   std::vector<double> diameter(static_cast<std::size_t>(sample.n), sample.diameter);
   if (sample.distribution == "uniform")
-    for (auto& d : diameter) d = sample.diameter * (sample.min_diameter_ratio + (1.0 - sample.min_diameter_ratio) * u(rng));
+    for (auto& d : diameter)
+      d = sample.diameter *
+          (sample.min_diameter_ratio + (1.0 - sample.min_diameter_ratio) * u(rng));
   double volume = 0;
   for (double d : diameter)
     volume += HomogeneousGrain<dim>::volume(d);
@@ -41,8 +43,10 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const RandomStage
     try {
       placed = place_sequentially<dim>(diameter, side, rng);
     } catch (const Error& e) {
-      throw InputError("stage " + std::to_string(ctx.stage_index) + " (random, placement = "
-                       "\"sequential\", phi = " + std::to_string(p.phi) + "): " + e.what() +
+      throw InputError("stage " + std::to_string(ctx.stage_index) +
+                       " (random, placement = "
+                       "\"sequential\", phi = " +
+                       std::to_string(p.phi) + "): " + e.what() +
                        "; lower phi or use placement = \"relax\"");
     }
   }
@@ -51,8 +55,10 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const RandomStage
     if (sequential)
       s = placed[static_cast<std::size_t>(k)];
     else
-      for (int a = 0; a < dim; ++a) s[a] = u(rng);
-    if (!ctx.decomposition->owns(s)) continue;
+      for (int a = 0; a < dim; ++a)
+        s[a] = u(rng);
+    if (!ctx.decomposition->owns(s))
+      continue;
     Particle<dim> q;
     q.id = k;
     const double d = diameter[static_cast<std::size_t>(k)];
@@ -62,7 +68,8 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const RandomStage
     q.position = s;
     ctx.system.particles.add_owned(q);
   }
-  if (!sequential) return remove_overlaps(ctx);
+  if (!sequential)
+    return remove_overlaps(ctx);
   ctx.system.time = 0;
   ctx.log->info("  placed by random sequential addition");
   return StageReport{};
@@ -71,4 +78,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const RandomStage
 template StageReport run_stage<2>(RunContext<2>&, const RandomStage&);
 template StageReport run_stage<3>(RunContext<3>&, const RandomStage&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -13,19 +13,22 @@ namespace granpack {
 
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const ReadStage& r) {
   GRANPACK_CHECK(ctx.system.particles.size() == 0,
-                 "stage " << ctx.stage_index << " (read) needs an empty sample: it must come first");
+                 "stage " << ctx.stage_index
+                          << " (read) needs an empty sample: it must come first");
   const FileMeta meta = read_file_meta(ctx.world, r.file);
   if (meta.dimension != dim)
-    throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) + "] (read) file = \"" +
-                     r.file + "\" holds a " + std::to_string(meta.dimension) + "D sample, the deck is " +
+    throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) +
+                     "] (read) file = \"" + r.file + "\" holds a " +
+                     std::to_string(meta.dimension) + "D sample, the deck is " +
                      std::to_string(dim) + "D");
   adopt_configuration(ctx, read_configuration<dim>(ctx.world, r.file));
   ctx.system.cell.rate.setZero();
-  const std::int64_t n = global_sum(ctx.world, static_cast<std::int64_t>(ctx.system.particles.n_owned()));
+  const std::int64_t n =
+      global_sum(ctx.world, static_cast<std::int64_t>(ctx.system.particles.n_owned()));
   if (n != ctx.deck->sample.n)
-    throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) + "] (read) file = \"" +
-                     r.file + "\" holds " + std::to_string(n) + " grains but [sample] n = " +
-                     std::to_string(ctx.deck->sample.n));
+    throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) +
+                     "] (read) file = \"" + r.file + "\" holds " + std::to_string(n) +
+                     " grains but [sample] n = " + std::to_string(ctx.deck->sample.n));
   std::ostringstream os;
   os << "  read " << r.file << ": " << n << " grains, " << meta.n_contacts << " contacts, stage '"
      << meta.stage_name << "' of the run that wrote it";
@@ -36,4 +39,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const ReadStage& 
 template StageReport run_stage<2>(RunContext<2>&, const ReadStage&);
 template StageReport run_stage<3>(RunContext<3>&, const ReadStage&);
 
-}  // namespace granpack
+} // namespace granpack

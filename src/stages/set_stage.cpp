@@ -23,4 +23,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const SetStage& p
 template StageReport run_stage<2>(RunContext<2>&, const SetStage&);
 template StageReport run_stage<3>(RunContext<3>&, const SetStage&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -17,4 +17,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const WriteStage&
 template StageReport run_stage<2>(RunContext<2>&, const WriteStage&);
 template StageReport run_stage<3>(RunContext<3>&, const WriteStage&);
 
-}  // namespace granpack
+} // namespace granpack

@@ -16,7 +16,7 @@ const std::vector<std::string>& seeds() {
   static const auto s = granpack::fuzz::deck_seeds(GRANPACK_SOURCE_DIR);
   return s;
 }
-}  // namespace
+} // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   granpack::fuzz::abort_if_violated(

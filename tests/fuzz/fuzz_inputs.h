@@ -110,8 +110,9 @@ private:
     std::unique_lock lock(m_);
     while (!stop_) {
       cv_.wait_for(lock, std::chrono::milliseconds(200));
-      if (busy_ && std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >
-                       limit_) {
+      if (busy_ &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >
+              limit_) {
         const std::string where = save_ ? save_() : std::string("(not saved)");
         // To the stderr of construction time: check_h5 redirects fd 2 while it runs.
         const std::string msg = "FUZZ HANG: " + label_ + " took more than " +
@@ -168,49 +169,220 @@ inline void abort_if_violated(const std::string& verdict) {
 /// Every key of docs/deck.md, the table names and the stage kinds: the vocabulary of the
 /// structure-aware mutations.
 inline const std::vector<std::string>& deck_keys() {
-  static const std::vector<std::string> keys = {
-      "dimension", "n", "diameter", "distribution", "min_diameter_ratio", "seed", "density",
-      "normal_law", "young_modulus", "poisson_ratio", "normal_stiffness",
-      "tangential_stiffness_ratio", "friction", "damping", "time_step_fraction", "skin",
-      "log_every", "quiet", "checkpoint_every_steps", "checkpoint_every_seconds", "kind", "name",
-      "lattice", "phi", "cells", "pressure", "stress", "fixed_axes", "inertia_max", "cell_mass",
-      "max_steps", "quench_interval", "quench_delay", "tolerance_force", "tolerance_stress",
-      "tolerance_kinetic", "file", "collisions_per_grain", "growth_rate", "rescale_every",
-      "report_phi", "factor", "count", "write", "force", "tolerance", "sample", "material",
-      "numerics", "output", "stage"};
+  static const std::vector<std::string> keys = {"dimension",
+                                                "n",
+                                                "diameter",
+                                                "distribution",
+                                                "min_diameter_ratio",
+                                                "seed",
+                                                "density",
+                                                "normal_law",
+                                                "young_modulus",
+                                                "poisson_ratio",
+                                                "normal_stiffness",
+                                                "tangential_stiffness_ratio",
+                                                "friction",
+                                                "damping",
+                                                "time_step_fraction",
+                                                "skin",
+                                                "log_every",
+                                                "quiet",
+                                                "checkpoint_every_steps",
+                                                "checkpoint_every_seconds",
+                                                "kind",
+                                                "name",
+                                                "lattice",
+                                                "phi",
+                                                "cells",
+                                                "pressure",
+                                                "stress",
+                                                "fixed_axes",
+                                                "inertia_max",
+                                                "cell_mass",
+                                                "max_steps",
+                                                "quench_interval",
+                                                "quench_delay",
+                                                "tolerance_force",
+                                                "tolerance_stress",
+                                                "tolerance_kinetic",
+                                                "file",
+                                                "collisions_per_grain",
+                                                "growth_rate",
+                                                "rescale_every",
+                                                "report_phi",
+                                                "factor",
+                                                "count",
+                                                "write",
+                                                "force",
+                                                "tolerance",
+                                                "sample",
+                                                "material",
+                                                "numerics",
+                                                "output",
+                                                "stage"};
   return keys;
 }
 
 inline const std::vector<std::string>& deck_values() {
-  static const std::vector<std::string> values = {
-      "0", "-0", "1", "-1", "2", "3", "4", "7", "1000", "9223372036854775807",
-      "-9223372036854775808", "9223372036854775808", "99999999999999999999",
-      "-99999999999999999999", "0x7fffffffffffffff", "0xffffffffffffffffff", "0o777777777777777777777777",
-      "0b" + std::string(64, '1'), "0b" + std::string(70, '1'), "1_000", "0.0", "-0.0", "0.5",
-      "0.6", "0.64", "0.74", "1.0", "1e-3", "1e9", "1e308", "1.7976931348623157e308", "1e309",
-      "-1e400", "1e-320", "1e-400", "5e-324", "inf", "+inf", "-inf", "nan", "+nan", "-nan",
-      "true", "false", "\"\"", "\"fcc\"", "\"hex\"", "\"hertz\"", "\"linear\"", "\"uniform\"",
-      "\"compress\"", "\"lattice\"", "\"random\"", "\"read\"", "\"write\"", "\"set\"",
-      "\"ed_gas\"", "\"ls_compress\"", "\"expand\"", "\"pressure_steps\"",
-      "\"fix_rattlers\"", "\"a.h5\"", "\"/etc/passwd\"", "\"../x.h5\"", "\".h5\"", "\"\\u00e9\"",
-      "\"\\uD800\"", "\"\\U0011FFFF\"", "\"\\x\"", "'literal'", "'''multi\nline'''",
-      "\"\"\"multi\nline\"\"\"", "[]", "[1]", "[1, 2]", "[1, 2, 3]", "[4, 4, 4]", "[0, 4, 4]",
-      "[-1, 4, 4]", "[1e6, 1, 1]", "[1000000, 1000000, 1000000]", "[1.5, 2, 3]", "[\"x\"]",
-      "[\"x\", \"x\"]", "[\"x\", \"y\", \"z\"]", "[\"q\"]", "[1e4, 1e4, 1e4]",
-      "[1e400, 1, 1]", "[0.49, 0.58]", "[0.58, 0.49]", "[nan]", "[[1], [2]]", "[1, \"a\"]",
-      "{}", "{a = 1}", "{kind = \"set\"}", "1979-05-27T07:32:00Z", "1979-05-27", "07:32:00",
-      "07:32:00.999999999", "1979-05-27T00:32:00.999999-07:00", "9999-99-99", "24:61:61"};
+  static const std::vector<std::string> values = {"0",
+                                                  "-0",
+                                                  "1",
+                                                  "-1",
+                                                  "2",
+                                                  "3",
+                                                  "4",
+                                                  "7",
+                                                  "1000",
+                                                  "9223372036854775807",
+                                                  "-9223372036854775808",
+                                                  "9223372036854775808",
+                                                  "99999999999999999999",
+                                                  "-99999999999999999999",
+                                                  "0x7fffffffffffffff",
+                                                  "0xffffffffffffffffff",
+                                                  "0o777777777777777777777777",
+                                                  "0b" + std::string(64, '1'),
+                                                  "0b" + std::string(70, '1'),
+                                                  "1_000",
+                                                  "0.0",
+                                                  "-0.0",
+                                                  "0.5",
+                                                  "0.6",
+                                                  "0.64",
+                                                  "0.74",
+                                                  "1.0",
+                                                  "1e-3",
+                                                  "1e9",
+                                                  "1e308",
+                                                  "1.7976931348623157e308",
+                                                  "1e309",
+                                                  "-1e400",
+                                                  "1e-320",
+                                                  "1e-400",
+                                                  "5e-324",
+                                                  "inf",
+                                                  "+inf",
+                                                  "-inf",
+                                                  "nan",
+                                                  "+nan",
+                                                  "-nan",
+                                                  "true",
+                                                  "false",
+                                                  "\"\"",
+                                                  "\"fcc\"",
+                                                  "\"hex\"",
+                                                  "\"hertz\"",
+                                                  "\"linear\"",
+                                                  "\"uniform\"",
+                                                  "\"compress\"",
+                                                  "\"lattice\"",
+                                                  "\"random\"",
+                                                  "\"read\"",
+                                                  "\"write\"",
+                                                  "\"set\"",
+                                                  "\"ed_gas\"",
+                                                  "\"ls_compress\"",
+                                                  "\"expand\"",
+                                                  "\"pressure_steps\"",
+                                                  "\"fix_rattlers\"",
+                                                  "\"a.h5\"",
+                                                  "\"/etc/passwd\"",
+                                                  "\"../x.h5\"",
+                                                  "\".h5\"",
+                                                  "\"\\u00e9\"",
+                                                  "\"\\uD800\"",
+                                                  "\"\\U0011FFFF\"",
+                                                  "\"\\x\"",
+                                                  "'literal'",
+                                                  "'''multi\nline'''",
+                                                  "\"\"\"multi\nline\"\"\"",
+                                                  "[]",
+                                                  "[1]",
+                                                  "[1, 2]",
+                                                  "[1, 2, 3]",
+                                                  "[4, 4, 4]",
+                                                  "[0, 4, 4]",
+                                                  "[-1, 4, 4]",
+                                                  "[1e6, 1, 1]",
+                                                  "[1000000, 1000000, 1000000]",
+                                                  "[1.5, 2, 3]",
+                                                  "[\"x\"]",
+                                                  "[\"x\", \"x\"]",
+                                                  "[\"x\", \"y\", \"z\"]",
+                                                  "[\"q\"]",
+                                                  "[1e4, 1e4, 1e4]",
+                                                  "[1e400, 1, 1]",
+                                                  "[0.49, 0.58]",
+                                                  "[0.58, 0.49]",
+                                                  "[nan]",
+                                                  "[[1], [2]]",
+                                                  "[1, \"a\"]",
+                                                  "{}",
+                                                  "{a = 1}",
+                                                  "{kind = \"set\"}",
+                                                  "1979-05-27T07:32:00Z",
+                                                  "1979-05-27",
+                                                  "07:32:00",
+                                                  "07:32:00.999999999",
+                                                  "1979-05-27T00:32:00.999999-07:00",
+                                                  "9999-99-99",
+                                                  "24:61:61"};
   return values;
 }
 
 /// Fragments that exercise the TOML lexer: quotes, brackets, escapes, invalid UTF-8, NULs.
 inline const std::vector<std::string>& deck_fragments() {
-  static const std::vector<std::string> f = {
-      "[", "]", "[[", "]]", "{", "}", "\"", "'", "\"\"\"", "'''", "=", "==", ",", ".", "#",
-      "\n", "\r\n", "\r", "\t", "\\", "\\u", "\\U", "\xff", "\xc3", "\xc0\x80", "\xed\xa0\x80",
-      "\xf4\x90\x80\x80", std::string(1, '\0'), "\xef\xbb\xbf", "+", "-", "_", "e", "E", "0x",
-      "0b", "0o", "inf", "nan", "T", "Z", ":", "[stage]", "[[stage]]", "[sample]", "[sample.x]",
-      "[[sample]]", "[material]", "a.b.c", "\"a.b\"", " = "};
+  static const std::vector<std::string> f = {"[",
+                                             "]",
+                                             "[[",
+                                             "]]",
+                                             "{",
+                                             "}",
+                                             "\"",
+                                             "'",
+                                             "\"\"\"",
+                                             "'''",
+                                             "=",
+                                             "==",
+                                             ",",
+                                             ".",
+                                             "#",
+                                             "\n",
+                                             "\r\n",
+                                             "\r",
+                                             "\t",
+                                             "\\",
+                                             "\\u",
+                                             "\\U",
+                                             "\xff",
+                                             "\xc3",
+                                             "\xc0\x80",
+                                             "\xed\xa0\x80",
+                                             "\xf4\x90\x80\x80",
+                                             std::string(1, '\0'),
+                                             "\xef\xbb\xbf",
+                                             "+",
+                                             "-",
+                                             "_",
+                                             "e",
+                                             "E",
+                                             "0x",
+                                             "0b",
+                                             "0o",
+                                             "inf",
+                                             "nan",
+                                             "T",
+                                             "Z",
+                                             ":",
+                                             "[stage]",
+                                             "[[stage]]",
+                                             "[sample]",
+                                             "[sample.x]",
+                                             "[[sample]]",
+                                             "[material]",
+                                             "a.b.c",
+                                             "\"a.b\"",
+                                             " = "};
   return f;
 }
 
@@ -223,7 +395,7 @@ inline std::vector<std::string> deck_seeds(const fs::path& source_dir) {
     for (const auto& e : fs::directory_iterator(source_dir / dir))
       if (e.path().extension() == ".toml")
         files.push_back(e.path());
-    std::sort(files.begin(), files.end());  // directory order is not deterministic
+    std::sort(files.begin(), files.end()); // directory order is not deterministic
     for (const auto& p : files)
       seeds.push_back(read_bytes(p));
   }
@@ -298,7 +470,7 @@ inline std::string deep_nesting(Rng& rng) {
 inline void mutate_deck_once(std::string& text, Rng& rng, const std::vector<std::string>& seeds) {
   auto lines = split_lines(text);
   auto rebuild = [&] { text = join_lines(lines); };
-  auto kv_line = [&]() -> long {  // index of a random "key = value" line, or -1
+  auto kv_line = [&]() -> long { // index of a random "key = value" line, or -1
     std::vector<std::size_t> idx;
     for (std::size_t i = 0; i < lines.size(); ++i)
       if (lines[i].find('=') != std::string::npos && lines[i][0] != '#')
@@ -368,8 +540,9 @@ inline void mutate_deck_once(std::string& text, Rng& rng, const std::vector<std:
   }
   case 10: { // a table header: new, changed, duplicated block
     const auto& k = rng.pick(deck_keys());
-    const std::vector<std::string> headers = {"[" + k + "]", "[[" + k + "]]", "[stage]",
-                                              "[[stage]]", "[sample." + k + "]", "[[stage." + k + "]]"};
+    const std::vector<std::string> headers = {
+        "[" + k + "]", "[[" + k + "]]",      "[stage]",
+        "[[stage]]",   "[sample." + k + "]", "[[stage." + k + "]]"};
     lines.insert(lines.begin() + static_cast<long>(rng.below(lines.size() + 1)), rng.pick(headers));
     rebuild();
     break;
@@ -406,11 +579,11 @@ inline void mutate_deck_once(std::string& text, Rng& rng, const std::vector<std:
     break;
   }
   case 14: { // something huge: a long key, string, number or comment
-    const std::size_t len = rng.log_size(1 << 17);  // toml11 reads about 1 MB/s
+    const std::size_t len = rng.log_size(1 << 17); // toml11 reads about 1 MB/s
     const std::vector<std::string> huge = {
         std::string(len, 'k') + " = 1", "name = \"" + std::string(len, 'x') + "\"",
         "n = " + std::string(len, '9'), "phi = 0." + std::string(len, '5'),
-        "# " + std::string(len, '#'), "x = [" + std::string(len, '1') + "]"};
+        "# " + std::string(len, '#'),   "x = [" + std::string(len, '1') + "]"};
     lines.insert(lines.begin() + static_cast<long>(rng.below(lines.size() + 1)), rng.pick(huge));
     rebuild();
     break;
@@ -427,7 +600,7 @@ inline void mutate_deck_once(std::string& text, Rng& rng, const std::vector<std:
         crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
       text = crlf;
     } else {
-      text += text;  // every table and key twice
+      text += text; // every table and key twice
     }
     break;
   }
@@ -483,7 +656,7 @@ template <int dim> void write_seed_file(const fs::path& path, int n, std::uint64
   }
   for (int i = 0; i < n; ++i) {
     Particle<dim> q;
-    q.id = 3 * i + 1;  // not contiguous, as the format allows
+    q.id = 3 * i + 1; // not contiguous, as the format allows
     q.radius = 5e-4 * (0.8 + 0.2 * rng.uniform());
     q.mass = 1e-6, q.inertia = 1e-13;
     for (int a = 0; a < dim; ++a)
@@ -500,31 +673,44 @@ template <int dim> void write_seed_file(const fs::path& path, int n, std::uint64
   }
   c.meta.stage_name = "seed";
   c.meta.deck_text = "[sample]\ndimension = " + std::to_string(dim) + "\n";
-  StateParameters params;  // so that the reader of /parameters is fuzzed too
+  StateParameters params; // so that the reader of /parameters is fuzzed too
   params.contact_law.young_modulus = 7e10;
   params.contact_law.poisson_ratio = 0.3;
   params.contact_law.friction = 0.3;
-  params.stress_target = StressTarget{2, std::vector<double>(dim, 1e4), std::vector<bool>(dim, false), 1e4};
+  params.stress_target =
+      StressTarget{2, std::vector<double>(dim, 1e4), std::vector<bool>(dim, false), 1e4};
   c.meta.parameters = params;
   write_configuration<dim>(MPI_COMM_SELF, path, c);
 }
 
-namespace h5m {  // structural mutations through the HDF5 C API (serial, default driver)
+namespace h5m { // structural mutations through the HDF5 C API (serial, default driver)
 
 inline const std::vector<std::string>& datasets() {
-  static const std::vector<std::string> d = {
-      "/deck", "/cell/length", "/cell/rate", "/particles/id", "/particles/radius",
-      "/particles/mass", "/particles/inertia", "/particles/scaled_position",
-      "/particles/position", "/particles/velocity", "/particles/angular_velocity",
-      "/particles/orientation", "/contacts/first", "/contacts/second",
-      "/contacts/normal_force", "/contacts/tangential_force", "/contacts/rolling",
-      "/contacts/flags", "/contacts/age"};
+  static const std::vector<std::string> d = {"/deck",
+                                             "/cell/length",
+                                             "/cell/rate",
+                                             "/particles/id",
+                                             "/particles/radius",
+                                             "/particles/mass",
+                                             "/particles/inertia",
+                                             "/particles/scaled_position",
+                                             "/particles/position",
+                                             "/particles/velocity",
+                                             "/particles/angular_velocity",
+                                             "/particles/orientation",
+                                             "/contacts/first",
+                                             "/contacts/second",
+                                             "/contacts/normal_force",
+                                             "/contacts/tangential_force",
+                                             "/contacts/rolling",
+                                             "/contacts/flags",
+                                             "/contacts/age"};
   return d;
 }
 inline const std::vector<std::string>& root_attributes() {
   static const std::vector<std::string> a = {
-      "format", "format_version", "granpack_version", "dimension", "n_particles", "n_contacts",
-      "time", "step", "stage_index", "stage_name", "kind"};
+      "format", "format_version", "granpack_version", "dimension",  "n_particles", "n_contacts",
+      "time",   "step",           "stage_index",      "stage_name", "kind"};
   return a;
 }
 
@@ -555,8 +741,9 @@ inline void set_string_attribute(hid_t obj, const char* name, const std::string&
 }
 
 /// Reads a whole dataset as doubles (or int64), converted by HDF5; empty if it fails.
-template <class T> std::vector<T> read_all(hid_t file, const std::string& path, hid_t mtype,
-                                           std::vector<hsize_t>* dims_out = nullptr) {
+template <class T>
+std::vector<T> read_all(hid_t file, const std::string& path, hid_t mtype,
+                        std::vector<hsize_t>* dims_out = nullptr) {
   std::vector<T> v;
   const hid_t d = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
   if (d < 0)
@@ -590,8 +777,9 @@ void write_all(hid_t file, const std::string& path, hid_t mtype, const std::vect
 inline void replace_dataset(hid_t file, const std::string& path, const std::vector<hsize_t>& dims,
                             hid_t ftype, hid_t mtype, const void* data, hid_t dcpl = H5P_DEFAULT) {
   H5Ldelete(file, path.c_str(), H5P_DEFAULT);
-  const hid_t s = dims.empty() ? H5Screate(H5S_SCALAR)
-                               : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+  const hid_t s = dims.empty()
+                      ? H5Screate(H5S_SCALAR)
+                      : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
   const hid_t d = H5Dcreate2(file, path.c_str(), ftype, s, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   if (d >= 0) {
     if (data)
@@ -605,23 +793,43 @@ inline double interesting_double(Rng& rng) {
   const double v[] = {std::numeric_limits<double>::quiet_NaN(),
                       std::numeric_limits<double>::infinity(),
                       -std::numeric_limits<double>::infinity(),
-                      0.0, -0.0, -1.0, 1.0, 1e300, -1e300, 5e-324, 1.0 - 1e-17, 2.0, -0.5};
+                      0.0,
+                      -0.0,
+                      -1.0,
+                      1.0,
+                      1e300,
+                      -1e300,
+                      5e-324,
+                      1.0 - 1e-17,
+                      2.0,
+                      -0.5};
   return v[rng.below(std::size(v))];
 }
 inline std::int64_t interesting_int(Rng& rng) {
-  const std::int64_t v[] = {0, -1, 1, 2, 3, 4, 7, std::numeric_limits<std::int64_t>::max(),
-                            std::numeric_limits<std::int64_t>::min(), std::int64_t{1} << 33,
-                            std::int64_t{1} << 40, std::int64_t{1} << 62, 1000, 4000};
+  const std::int64_t v[] = {0,
+                            -1,
+                            1,
+                            2,
+                            3,
+                            4,
+                            7,
+                            std::numeric_limits<std::int64_t>::max(),
+                            std::numeric_limits<std::int64_t>::min(),
+                            std::int64_t{1} << 33,
+                            std::int64_t{1} << 40,
+                            std::int64_t{1} << 62,
+                            1000,
+                            4000};
   return v[rng.below(std::size(v))];
 }
 
-}  // namespace h5m
+} // namespace h5m
 
 /// One structural mutation of a granpack file (opened read-write with serial HDF5).
 /// Returns a short description of what was done, for reports.
 inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
   using namespace h5m;
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // the mutator's own failures are expected
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // the mutator's own failures are expected
   const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   if (f < 0)
     return "open failed";
@@ -641,9 +849,15 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
   case 2: { // attribute of another type or shape
     did = "retype attribute " + at;
     switch (rng.below(5)) {
-    case 0: set_scalar_attribute(f, at.c_str(), H5T_IEEE_F64LE, 2.5); break;
-    case 1: set_scalar_attribute(f, at.c_str(), H5T_STD_I64LE, interesting_int(rng)); break;
-    case 2: set_string_attribute(f, at.c_str(), rng.chance(0.5) ? "3" : ""); break;
+    case 0:
+      set_scalar_attribute(f, at.c_str(), H5T_IEEE_F64LE, 2.5);
+      break;
+    case 1:
+      set_scalar_attribute(f, at.c_str(), H5T_STD_I64LE, interesting_int(rng));
+      break;
+    case 2:
+      set_string_attribute(f, at.c_str(), rng.chance(0.5) ? "3" : "");
+      break;
     case 3: { // an array attribute
       const hsize_t n = 3;
       const hid_t s = H5Screate_simple(1, &n, nullptr);
@@ -669,10 +883,18 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
   }
   case 4: { // dimension, version, format, kind
     switch (rng.below(4)) {
-    case 0: set_scalar_attribute(f, "dimension", H5T_STD_I32LE, static_cast<int>(rng.below(6)) - 1); break;
-    case 1: set_scalar_attribute(f, "format_version", H5T_STD_I32LE, static_cast<int>(rng.below(4)) - 1); break;
-    case 2: set_string_attribute(f, "format", rng.chance(0.5) ? "granpack2" : ""); break;
-    default: set_string_attribute(f, "kind", "frobnicated"); break;
+    case 0:
+      set_scalar_attribute(f, "dimension", H5T_STD_I32LE, static_cast<int>(rng.below(6)) - 1);
+      break;
+    case 1:
+      set_scalar_attribute(f, "format_version", H5T_STD_I32LE, static_cast<int>(rng.below(4)) - 1);
+      break;
+    case 2:
+      set_string_attribute(f, "format", rng.chance(0.5) ? "granpack2" : "");
+      break;
+    default:
+      set_string_attribute(f, "kind", "frobnicated");
+      break;
     }
     did = "root attribute values";
     break;
@@ -682,13 +904,22 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
     if (dims.empty())
       dims = {1};
     switch (rng.below(4)) {
-    case 0: dims[0] = dims[0] + 1; break;
-    case 1: dims[0] = dims[0] > 0 ? dims[0] - 1 : 0; break;
-    case 2: dims.push_back(2); break;
-    default: dims.pop_back(); break;
+    case 0:
+      dims[0] = dims[0] + 1;
+      break;
+    case 1:
+      dims[0] = dims[0] > 0 ? dims[0] - 1 : 0;
+      break;
+    case 2:
+      dims.push_back(2);
+      break;
+    default:
+      dims.pop_back();
+      break;
     }
     hsize_t total = 1;
-    for (auto d : dims) total *= d;
+    for (auto d : dims)
+      total *= d;
     v.assign(static_cast<std::size_t>(total), 0.25);
     replace_dataset(f, ds, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data());
     did = "reshape " + ds;
@@ -696,8 +927,8 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
   }
   case 6: { // a dataset of another type, same shape
     auto v = read_all<double>(f, ds, H5T_NATIVE_DOUBLE, &dims);
-    const hid_t types[] = {H5T_STD_I32LE, H5T_STD_U8LE, H5T_IEEE_F32BE, H5T_STD_I64BE,
-                           H5T_IEEE_F64LE, H5T_STD_U64LE};
+    const hid_t types[] = {H5T_STD_I32LE, H5T_STD_U8LE,   H5T_IEEE_F32BE,
+                           H5T_STD_I64BE, H5T_IEEE_F64LE, H5T_STD_U64LE};
     const hid_t t = types[rng.below(std::size(types))];
     replace_dataset(f, ds, dims, t, H5T_NATIVE_DOUBLE, v.empty() ? nullptr : v.data());
     did = "retype " + ds;
@@ -708,7 +939,8 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
     if (rng.chance(0.3)) {
       auto id = read_all<std::int64_t>(f, "/particles/id", H5T_NATIVE_INT64);
       if (!id.empty()) {
-        id[rng.below(id.size())] = rng.chance(0.5) ? -1 : id[rng.below(id.size())];  // negative or duplicate
+        id[rng.below(id.size())] =
+            rng.chance(0.5) ? -1 : id[rng.below(id.size())]; // negative or duplicate
         write_all(f, "/particles/id", H5T_NATIVE_INT64, id);
         did = "particle id negative or duplicate";
       }
@@ -718,10 +950,18 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
       if (!a.empty() && a.size() == b.size()) {
         const auto k = rng.below(a.size());
         switch (rng.below(4)) {
-        case 0: std::swap(a[k], b[k]); break;             // first > second
-        case 1: b[k] = a[k]; break;                       // first == second
-        case 2: a[k] = -5; break;                         // negative
-        default: a[k] = a[0], b[k] = b[0]; break;         // duplicate pair
+        case 0:
+          std::swap(a[k], b[k]);
+          break; // first > second
+        case 1:
+          b[k] = a[k];
+          break; // first == second
+        case 2:
+          a[k] = -5;
+          break; // negative
+        default:
+          a[k] = a[0], b[k] = b[0];
+          break; // duplicate pair
         }
         write_all(f, "/contacts/first", H5T_NATIVE_INT64, a);
         write_all(f, "/contacts/second", H5T_NATIVE_INT64, b);
@@ -749,8 +989,8 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
       if (dims.empty())
         continue;
       dims[0] = static_cast<hsize_t>(n);
-      const bool integer = d.ends_with("/id") || d.ends_with("first") || d.ends_with("second") ||
-                           d.ends_with("age");
+      const bool integer =
+          d.ends_with("/id") || d.ends_with("first") || d.ends_with("second") || d.ends_with("age");
       replace_dataset(f, d, dims, integer ? H5T_STD_I64LE : H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
                       nullptr);
     }
@@ -771,7 +1011,7 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
     }
     case 1: {
       const hid_t t = H5Tcopy(H5T_C_S1);
-      H5Tset_size(t, std::size_t{1} << (20 + rng.below(12)));  // up to 2 GB, never written
+      H5Tset_size(t, std::size_t{1} << (20 + rng.below(12))); // up to 2 GB, never written
       replace_dataset(f, "/deck", {}, t, t, nullptr);
       H5Tclose(t);
       break;
@@ -811,9 +1051,15 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
   case 11: { // links: dangling, self-referencing, aliasing, external
     H5Ldelete(f, ds.c_str(), H5P_DEFAULT);
     switch (rng.below(4)) {
-    case 0: H5Lcreate_soft("/nowhere", f, ds.c_str(), H5P_DEFAULT, H5P_DEFAULT); break;
-    case 1: H5Lcreate_soft(ds.c_str(), f, ds.c_str(), H5P_DEFAULT, H5P_DEFAULT); break;
-    case 2: H5Lcreate_soft(rng.pick(datasets()).c_str(), f, ds.c_str(), H5P_DEFAULT, H5P_DEFAULT); break;
+    case 0:
+      H5Lcreate_soft("/nowhere", f, ds.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+      break;
+    case 1:
+      H5Lcreate_soft(ds.c_str(), f, ds.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+      break;
+    case 2:
+      H5Lcreate_soft(rng.pick(datasets()).c_str(), f, ds.c_str(), H5P_DEFAULT, H5P_DEFAULT);
+      break;
     default:
       H5Lcreate_external(rng.chance(0.5) ? "/nonexistent.h5" : path.filename().c_str(), ds.c_str(),
                          f, ds.c_str(), H5P_DEFAULT, H5P_DEFAULT);
@@ -829,10 +1075,13 @@ inline std::string mutate_h5_structure(const fs::path& path, Rng& rng) {
       chunk[0] = std::max<hsize_t>(1, dims[0] / 2);
       H5Pset_chunk(dcpl, static_cast<int>(chunk.size()), chunk.data());
       H5Pset_deflate(dcpl, 6);
-      const bool integer = ds.ends_with("/id") || ds.ends_with("first") ||
-                           ds.ends_with("second") || ds.ends_with("age");
+      const bool integer = ds.ends_with("/id") || ds.ends_with("first") || ds.ends_with("second") ||
+                           ds.ends_with("age");
       const bool flags = ds.ends_with("flags");
-      replace_dataset(f, ds, dims, integer ? H5T_STD_I64LE : flags ? H5T_STD_U32LE : H5T_IEEE_F64LE,
+      replace_dataset(f, ds, dims,
+                      integer ? H5T_STD_I64LE
+                      : flags ? H5T_STD_U32LE
+                              : H5T_IEEE_F64LE,
                       H5T_NATIVE_DOUBLE, v.data(), dcpl);
       H5Pclose(dcpl);
       did = "compress " + ds;
@@ -932,7 +1181,8 @@ inline std::string mutate_h5_bytes(std::string& bytes, Rng& rng) {
     default: {
       const auto at = offset();
       const auto len = std::min(bytes.size() - at, rng.log_size(512));
-      std::fill(bytes.begin() + static_cast<long>(at), bytes.begin() + static_cast<long>(at + len), '\0');
+      std::fill(bytes.begin() + static_cast<long>(at), bytes.begin() + static_cast<long>(at + len),
+                '\0');
       did += "zero ";
       break;
     }
@@ -976,11 +1226,11 @@ private:
 template <int dim> std::string check_returned(const Configuration<dim>& c) {
   const auto& p = c.particles;
   if (static_cast<std::int64_t>(p.n_owned()) != c.meta.n_particles)
-    return "returned " + std::to_string(p.n_owned()) + " particles, n_particles = " +
-           std::to_string(c.meta.n_particles);
+    return "returned " + std::to_string(p.n_owned()) +
+           " particles, n_particles = " + std::to_string(c.meta.n_particles);
   if (static_cast<std::int64_t>(c.contacts.size()) != c.meta.n_contacts)
-    return "returned " + std::to_string(c.contacts.size()) + " contacts, n_contacts = " +
-           std::to_string(c.meta.n_contacts);
+    return "returned " + std::to_string(c.contacts.size()) +
+           " contacts, n_contacts = " + std::to_string(c.meta.n_contacts);
   for (int a = 0; a < dim; ++a)
     if (!(c.cell.length[a] > 0) || !std::isfinite(c.cell.length[a]))
       return "returned a non-positive or non-finite cell length";
@@ -993,7 +1243,8 @@ template <int dim> std::string check_returned(const Configuration<dim>& c) {
       if (!std::isfinite(p.position[i][a]))
         return "returned a non-finite scaled position";
   }
-  std::vector<std::int64_t> ids(p.id.begin(), p.id.begin() + static_cast<std::ptrdiff_t>(p.n_owned()));
+  std::vector<std::int64_t> ids(p.id.begin(),
+                                p.id.begin() + static_cast<std::ptrdiff_t>(p.n_owned()));
   std::sort(ids.begin(), ids.end());
   if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())
     return "returned a duplicate id";
@@ -1042,4 +1293,4 @@ inline std::string check_h5(const fs::path& file, const fs::path& scratch) {
   return problems;
 }
 
-}  // namespace granpack::fuzz
+} // namespace granpack::fuzz

@@ -24,7 +24,7 @@ fs::path& work_dir() {
   static fs::path d;
   return d;
 }
-}  // namespace
+} // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
   MPI_Init(argc, argv);

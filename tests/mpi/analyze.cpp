@@ -32,7 +32,7 @@ TEST(Analyze, FccPackingAndRankCountInvariance) {
   EXPECT_EQ(all["backbone_contacts"], 1536);
   EXPECT_EQ(all["rattlers"], 0);
   EXPECT_DOUBLE_EQ(all["z"].get<double>(), 12.0);
-  EXPECT_NEAR(all["Z_2"].get<double>(), 1.0, 1e-12);  // every contact carries the same force
+  EXPECT_NEAR(all["Z_2"].get<double>(), 1.0, 1e-12); // every contact carries the same force
   EXPECT_NEAR(all["Z_5_3"].get<double>(), 1.0, 1e-12);
   // eq. (22) neglects the deflection: its relative error is of order h/a = 2.67e-5 here.
   EXPECT_GT(all["eq22_relative_error"].get<double>(), 1e-5);
@@ -43,14 +43,16 @@ TEST(Analyze, FccPackingAndRankCountInvariance) {
   MPI_Dims_create(size, 3, dims);
   EXPECT_EQ(all["g_r_range_limited_by"], dims[0] >= 3 ? "sub-domain width" : "half the cell");
 
-  if (rank != 0) return;
+  if (rank != 0)
+    return;
   testing::internal::CaptureStdout();
   const auto one = nlohmann::json::parse(analyze_file(MPI_COMM_SELF, a));
   testing::internal::GetCapturedStdout();
   for (auto& [key, v] : all.items()) {
     // X1, M1, M2 split contacts at N = <N>: here every contact carries the same force, so the
     // split (and whether M1 is defined) depends on the last bit of <N>.
-    if (key == "X1" || key == "M1" || key == "M2") continue;
+    if (key == "X1" || key == "M1" || key == "M2")
+      continue;
     // The g(r) range is clipped by the sub-domain width on 3 ranks or more (this cell is
     // 5.66 a wide, the requested range 3 a); the output says so. g(r) itself is not compared.
     if (key == "g_r_range" && all["g_r_range_limited_by"] == "sub-domain width") {

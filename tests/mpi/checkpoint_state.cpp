@@ -5,13 +5,13 @@
 #include <mpi.h>
 
 #include <bit>
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "granpack/core/error.h"
-#include "granpack/io/hdf5_store.h"
 #include "granpack/engine/checkpoint.h"
+#include "granpack/io/hdf5_store.h"
 
 namespace granpack {
 namespace {
@@ -72,23 +72,29 @@ TEST(CheckpointState, OnlyOutputAndWithTheFlagLaterStagesMayChange) {
   const Deck a = parse_deck(kDeck, "a.toml");
   RunState s;
   s.stage_index = 1;
-  s.mid_stage = true;  // inside the compress stage
+  s.mid_stage = true; // inside the compress stage
   std::string text = kDeck;
   EXPECT_EQ(message_of(a, parse_deck(text + "[output]\nlog_every = 7\n", "b.toml"), s, false), "");
-  const std::string friction = message_of(a, parse_deck(std::string(kDeck).replace(text.find("friction = 0.3"), 14, "friction = 0.4"), "b.toml"), s, false);
+  const std::string friction = message_of(
+      a,
+      parse_deck(std::string(kDeck).replace(text.find("friction = 0.3"), 14, "friction = 0.4"),
+                 "b.toml"),
+      s, false);
   EXPECT_NE(friction.find("[material]"), std::string::npos) << friction;
   // The stage in progress may not change, even with the flag.
-  const std::string p = std::string(kDeck).replace(text.find("pressure = 1.0e4"), 16, "pressure = 2.0e4");
+  const std::string p =
+      std::string(kDeck).replace(text.find("pressure = 1.0e4"), 16, "pressure = 2.0e4");
   const std::string in_progress = message_of(a, parse_deck(p, "b.toml"), s, true);
   EXPECT_NE(in_progress.find("stage[1]"), std::string::npos) << in_progress;
   // A later stage may, with the flag only.
   const std::string w = std::string(kDeck).replace(text.find("a.h5"), 4, "b.h5");
-  EXPECT_NE(message_of(a, parse_deck(w, "b.toml"), s, false).find("allow-deck-change"), std::string::npos);
+  EXPECT_NE(message_of(a, parse_deck(w, "b.toml"), s, false).find("allow-deck-change"),
+            std::string::npos);
   EXPECT_EQ(message_of(a, parse_deck(w, "b.toml"), s, true), "");
 }
 
-}  // namespace
-}  // namespace granpack
+} // namespace
+} // namespace granpack
 
 namespace granpack {
 namespace {
@@ -122,7 +128,8 @@ TEST(CheckpointState, RunStateDifferingBetweenRanksLeavesAValidFile) {
   c.meta.deck_text = "deck";
   c.meta.kind = "checkpoint";
   c.meta.run_state = "{\"rank\": \"" + std::string(std::size_t(5 + 40 * rank), 'x') + "\"}";
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "granpack_run_state_test.h5";
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "granpack_run_state_test.h5";
   write_configuration<3>(MPI_COMM_WORLD, file, c);
   const FileMeta meta = read_file_meta(MPI_COMM_SELF, file);
   EXPECT_EQ(meta.run_state, "{\"rank\": \"xxxxx\"}");
@@ -135,11 +142,12 @@ TEST(CheckpointState, RunStateDifferingBetweenRanksLeavesAValidFile) {
     EXPECT_EQ(back.contacts.state(k).age, 7 + key.first);
   }
   MPI_Barrier(MPI_COMM_WORLD);
-  if (rank == 0) std::filesystem::remove(file);
+  if (rank == 0)
+    std::filesystem::remove(file);
 }
 
-}  // namespace
-}  // namespace granpack
+} // namespace
+} // namespace granpack
 
 namespace granpack {
 namespace {
@@ -183,7 +191,8 @@ TEST(CheckpointState, ParametersRoundTripBitForBit) {
   p.contact_law.rolling_damping = 0.8;
   p.stress_target = StressTarget{4, {10.0, 0.1 + 0.2, 30.0}, {false, true, false}, 20.0};
   const auto dir = std::filesystem::temp_directory_path();
-  const std::filesystem::path with = dir / "granpack_parameters_test.h5", without = dir / "granpack_no_parameters_test.h5",
+  const std::filesystem::path with = dir / "granpack_parameters_test.h5",
+                              without = dir / "granpack_no_parameters_test.h5",
                               unset = dir / "granpack_unset_target_test.h5";
   Configuration<3> c = small_configuration(rank);
   c.meta.parameters = p;
@@ -196,7 +205,8 @@ TEST(CheckpointState, ParametersRoundTripBitForBit) {
   const FileMeta meta = read_file_meta(MPI_COMM_SELF, with);
   ASSERT_TRUE(meta.parameters);
   EXPECT_TRUE(*meta.parameters == p);
-  EXPECT_EQ(std::bit_cast<std::uint64_t>(meta.parameters->contact_law.k_n), std::bit_cast<std::uint64_t>(p.contact_law.k_n));
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(meta.parameters->contact_law.k_n),
+            std::bit_cast<std::uint64_t>(p.contact_law.k_n));
   EXPECT_TRUE(read_configuration<3>(MPI_COMM_WORLD, with).meta.parameters == p);
   const FileMeta none = read_file_meta(MPI_COMM_SELF, unset);
   ASSERT_TRUE(none.parameters);
@@ -205,7 +215,8 @@ TEST(CheckpointState, ParametersRoundTripBitForBit) {
   EXPECT_FALSE(read_file_meta(MPI_COMM_SELF, without).parameters);
   MPI_Barrier(MPI_COMM_WORLD);
   if (rank == 0)
-    for (const auto& f : {with, without, unset}) std::filesystem::remove(f);
+    for (const auto& f : {with, without, unset})
+      std::filesystem::remove(f);
 }
 
 // Checkpoints of run_state format 1 (before /parameters) kept the stages' changes in the run
@@ -225,13 +236,13 @@ TEST(CheckpointState, FormatOneRunStateRestoresOverTheDeck) {
   const StateParameters p = legacy_parameters(old, deck);
   EXPECT_EQ(p.contact_law.friction, 0.5);
   EXPECT_EQ(p.contact_law.damping_ratio, 0.9);
-  EXPECT_EQ(p.contact_law.young_modulus, 2.88e8);  // the deck's
-  EXPECT_EQ(p.stress_target.stage, 1);              // the compress stage before stage 2
+  EXPECT_EQ(p.contact_law.young_modulus, 2.88e8); // the deck's
+  EXPECT_EQ(p.stress_target.stage, 1);            // the compress stage before stage 2
   EXPECT_EQ(p.stress_target.stress, std::vector<double>(3, 1e4));
   EXPECT_EQ(p.stress_target.pressure, 1e4);
   EXPECT_FALSE(parse_run_state("{\"format\": 2, " + common + "}", "new.h5").legacy);
   EXPECT_THROW(parse_run_state("{\"format\": 3, " + common + "}", "new.h5"), InputError);
 }
 
-}  // namespace
-}  // namespace granpack
+} // namespace
+} // namespace granpack

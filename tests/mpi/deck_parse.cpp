@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "granpack/app/run_deck.h"
 #include "granpack/core/error.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/state_parameters.h"
-#include "granpack/app/run_deck.h"
 #include "test_paths.h"
 
 using namespace granpack;
@@ -63,7 +63,7 @@ std::string message_of(const std::string& text) {
   }
   return "(accepted)";
 }
-}  // namespace
+} // namespace
 
 TEST(Deck, ParsesEveryKeyWithDefaults) {
   Deck d = parse_deck(kGood, "good.toml");
@@ -92,8 +92,8 @@ TEST(Deck, ParsesEveryKeyWithDefaults) {
 // refused with this list: tests/decks/bad/unknown_stage.toml).
 TEST(Deck, StageKindsAreTheRegistryInDocumentationOrder) {
   const std::vector<std::string> documented = {
-      "lattice", "random", "read", "ed_gas", "ls_compress", "expand", "compress",
-      "pressure_steps", "fix_rattlers", "set", "write", "aggregate", "stiffen"};
+      "lattice",        "random",       "read", "ed_gas", "ls_compress", "expand", "compress",
+      "pressure_steps", "fix_rattlers", "set",  "write",  "aggregate",   "stiffen"};
   EXPECT_EQ(stage_kinds(), documented);
 }
 
@@ -105,19 +105,43 @@ TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
     EXPECT_NE(pos, std::string::npos) << from;
     return t.replace(pos, from.size(), to);
   };
-  EXPECT_NE(message_of(with("damping = 0.5", "damping = -0.5")).find("[material] damping: = -0.5 is out of range"), std::string::npos);
-  EXPECT_NE(message_of(with("normal_stiffness = 1.0e5", "young_modulus = 1.0e5")).find("normal_stiffness: missing required key"), std::string::npos);
-  EXPECT_NE(message_of(with("inertia_max = 1e-3", "inertia_max = \"fast\"")).find("[stage[0] (compress)] inertia_max: = \"fast\" is a string"), std::string::npos);
-  EXPECT_NE(message_of(with("file = \"a.h5\"", "file = \"../a.h5\"")).find("must be a plain file name"), std::string::npos);
-  EXPECT_NE(message_of(with("kind = \"set\"\nfriction = 0.15", "kind = \"set\"")).find("changes nothing"), std::string::npos);
-  EXPECT_NE(message_of(with("seed = 7", "seed = 7\nseeed = 8")).find("t.toml:8: [sample] seeed: unknown key"), std::string::npos);
-  EXPECT_NE(message_of(with("[sample]", "sample = 3\n[sampl]")).find("'sample' must be a table"), std::string::npos);
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = -0.5"))
+                .find("[material] damping: = -0.5 is out of range"),
+            std::string::npos);
+  EXPECT_NE(message_of(with("normal_stiffness = 1.0e5", "young_modulus = 1.0e5"))
+                .find("normal_stiffness: missing required key"),
+            std::string::npos);
+  EXPECT_NE(message_of(with("inertia_max = 1e-3", "inertia_max = \"fast\""))
+                .find("[stage[0] (compress)] inertia_max: = \"fast\" is a string"),
+            std::string::npos);
+  EXPECT_NE(
+      message_of(with("file = \"a.h5\"", "file = \"../a.h5\"")).find("must be a plain file name"),
+      std::string::npos);
+  EXPECT_NE(
+      message_of(with("kind = \"set\"\nfriction = 0.15", "kind = \"set\"")).find("changes nothing"),
+      std::string::npos);
+  EXPECT_NE(message_of(with("seed = 7", "seed = 7\nseeed = 8"))
+                .find("t.toml:8: [sample] seeed: unknown key"),
+            std::string::npos);
+  EXPECT_NE(message_of(with("[sample]", "sample = 3\n[sampl]")).find("'sample' must be a table"),
+            std::string::npos);
   // [GRC] parts: both cohesion keys or neither, a rolling friction needs a stiffness, finite.
-  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\ncohesion_force = 1e-3")).find("[material] cohesion_range: cohesion needs both"), std::string::npos);
-  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\ncohesion_range = 1e-7")).find("[material] cohesion_force: cohesion needs both"), std::string::npos);
-  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\ncohesion_force = inf\ncohesion_range = 1e-7")).find("[material] cohesion_force: = inf is out of range"), std::string::npos);
-  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\nrolling_friction = 1e-6")).find("[material] rolling_stiffness: rolling_friction > 0 needs"), std::string::npos);
-  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\nrolling_stiffness = -1.0")).find("[material] rolling_stiffness: = -1.0 is out of range"), std::string::npos);
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\ncohesion_force = 1e-3"))
+                .find("[material] cohesion_range: cohesion needs both"),
+            std::string::npos);
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\ncohesion_range = 1e-7"))
+                .find("[material] cohesion_force: cohesion needs both"),
+            std::string::npos);
+  EXPECT_NE(message_of(
+                with("damping = 0.5", "damping = 0.5\ncohesion_force = inf\ncohesion_range = 1e-7"))
+                .find("[material] cohesion_force: = inf is out of range"),
+            std::string::npos);
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\nrolling_friction = 1e-6"))
+                .find("[material] rolling_stiffness: rolling_friction > 0 needs"),
+            std::string::npos);
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\nrolling_stiffness = -1.0"))
+                .find("[material] rolling_stiffness: = -1.0 is out of range"),
+            std::string::npos);
 }
 
 TEST(Deck, CohesionAndRollingResistanceKeys) {
@@ -140,27 +164,35 @@ TEST(Deck, CohesionAndRollingResistanceKeys) {
 // reading of files written before /parameters existed) replays it.
 TEST(Deck, MethodTwoKeys) {
   std::string cohesive = kGood;
-  cohesive.replace(cohesive.find("damping = 0.5"), 13,
-                   "damping = 0.5\ncohesion_force = 2e-3\ncohesion_range = 1e-7\nrolling_stiffness = 1e-4");
+  cohesive.replace(
+      cohesive.find("damping = 0.5"), 13,
+      "damping = 0.5\ncohesion_force = 2e-3\ncohesion_range = 1e-7\nrolling_stiffness = 1e-4");
   auto stage = [](std::string t, const std::string& from, const std::string& to) {
     t.replace(t.find(from), from.size(), to);
     return t;
   };
   // P = 0: refused without cohesion, and with an inertia cap; the strain-rate cap is read.
   EXPECT_NE(message_of(stage(kGood, "pressure = 100.0\ninertia_max = 1e-3", "pressure = 0.0"))
-                .find("pressure: = 0.0 is out of range"), std::string::npos);
-  EXPECT_NE(message_of(stage(cohesive, "pressure = 100.0", "pressure = 0.0")).find("inertia_max: needs P > 0"),
+                .find("pressure: = 0.0 is out of range"),
             std::string::npos);
-  const Deck p0 = parse_deck(stage(cohesive, "pressure = 100.0\ninertia_max = 1e-3", "pressure = 0\nstrain_rate_max = 35.7"), "p0.toml");
+  EXPECT_NE(message_of(stage(cohesive, "pressure = 100.0", "pressure = 0.0"))
+                .find("inertia_max: needs P > 0"),
+            std::string::npos);
+  const Deck p0 = parse_deck(stage(cohesive, "pressure = 100.0\ninertia_max = 1e-3",
+                                   "pressure = 0\nstrain_rate_max = 35.7"),
+                             "p0.toml");
   const auto& c = std::get<CompressStage>(p0.stages[0].params);
   EXPECT_EQ(c.pressure, 0.0);
   EXPECT_EQ(c.strain_rate_max, 35.7);
   EXPECT_FALSE(c.inertia_max);
-  EXPECT_NE(message_of(stage(kGood, "inertia_max = 1e-3", "strain_rate_max = -1")).find("strain_rate_max: = -1 is out of range"),
+  EXPECT_NE(message_of(stage(kGood, "inertia_max = 1e-3", "strain_rate_max = -1"))
+                .find("strain_rate_max: = -1 is out of range"),
             std::string::npos);
 
   // stiffen: target, steps, increments <= steps, the stress target; replayed for old files.
-  const std::string stiff = "[[stage]]\nkind = \"stiffen\"\nnormal_stiffness = 1e7\nsteps = 1000\nincrements = 10\npressure = 0\ncell_mass = 0.3\n\n[[stage]]\nkind = \"write\"";
+  const std::string stiff =
+      "[[stage]]\nkind = \"stiffen\"\nnormal_stiffness = 1e7\nsteps = 1000\nincrements = "
+      "10\npressure = 0\ncell_mass = 0.3\n\n[[stage]]\nkind = \"write\"";
   const Deck d = parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", stiff), "s.toml");
   const auto& f = std::get<StiffenStage>(d.stages[2].params);
   EXPECT_EQ(f.normal_stiffness, 1e7);
@@ -172,42 +204,71 @@ TEST(Deck, MethodTwoKeys) {
   const StateParameters at0 = replayed_parameters(d, 0), at1 = replayed_parameters(d, 1),
                         at2 = replayed_parameters(d, 2);
   EXPECT_EQ(at1.contact_law.k_n, 1e5);
-  EXPECT_EQ(at1.contact_law.friction, 0.15);  // the set stage
+  EXPECT_EQ(at1.contact_law.friction, 0.15); // the set stage
   EXPECT_EQ(at2.contact_law.k_n, 1e7);
-  EXPECT_DOUBLE_EQ(at2.contact_law.rolling_stiffness, 1e-2);  // K_r follows K_N (x 100)
+  EXPECT_DOUBLE_EQ(at2.contact_law.rolling_stiffness, 1e-2); // K_r follows K_N (x 100)
   // The stress target: the compress stage's from its end on; stiffen keeps it.
   EXPECT_EQ(at0.stress_target.stage, 0);
-  EXPECT_EQ(at0.stress_target.stress, std::vector<double>(2, 100.0));  // 2D
+  EXPECT_EQ(at0.stress_target.stress, std::vector<double>(2, 100.0)); // 2D
   EXPECT_EQ(at0.stress_target.pressure, 100.0);
   EXPECT_EQ(at2.stress_target, at0.stress_target);
-  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(stiff, "increments = 10", "increments = 2000")))
-                .find("increments: = 2000 is out of range"), std::string::npos);
-  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(stiff, "steps = 1000\n", "")))
-                .find("steps"), std::string::npos);
-  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(stiff, "cell_mass = 0.3", "tolerance_force = 1e-4")))
-                .find("tolerance_force"), std::string::npos);  // not a stiffen key
-  EXPECT_NE(message_of(stage(kGood, "[[stage]]\nkind = \"write\"", stage(stiff, "pressure = 0", "pressure = 0.0")))
-                .find("pressure: = 0.0 is out of range"), std::string::npos);  // P = 0 needs cohesion
+  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"",
+                             stage(stiff, "increments = 10", "increments = 2000")))
+                .find("increments: = 2000 is out of range"),
+            std::string::npos);
+  EXPECT_NE(
+      message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(stiff, "steps = 1000\n", "")))
+          .find("steps"),
+      std::string::npos);
+  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"",
+                             stage(stiff, "cell_mass = 0.3", "tolerance_force = 1e-4")))
+                .find("tolerance_force"),
+            std::string::npos); // not a stiffen key
+  EXPECT_NE(message_of(stage(kGood, "[[stage]]\nkind = \"write\"",
+                             stage(stiff, "pressure = 0", "pressure = 0.0")))
+                .find("pressure: = 0.0 is out of range"),
+            std::string::npos); // P = 0 needs cohesion
 
   // aggregate: quench_interval (0 by default) is read and must not be negative.
-  const std::string agg = "[[stage]]\nkind = \"aggregate\"\nvelocity_ratio = 9.48\nquench_interval = 20000\n\n[[stage]]\nkind = \"write\"";
+  const std::string agg = "[[stage]]\nkind = \"aggregate\"\nvelocity_ratio = 9.48\nquench_interval "
+                          "= 20000\n\n[[stage]]\nkind = \"write\"";
   const Deck q = parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", agg), "q.toml");
   EXPECT_EQ(std::get<AggregateStage>(q.stages[2].params).quench_interval, 20000);
-  EXPECT_EQ(std::get<AggregateStage>(parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(agg, "quench_interval = 20000\n", "")), "q0.toml").stages[2].params).quench_interval, 0);
-  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(agg, "20000", "-5"))).find("quench_interval: = -5 is out of range"),
+  EXPECT_EQ(std::get<AggregateStage>(parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"",
+                                                      stage(agg, "quench_interval = 20000\n", "")),
+                                                "q0.toml")
+                                         .stages[2]
+                                         .params)
+                .quench_interval,
+            0);
+  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(agg, "20000", "-5")))
+                .find("quench_interval: = -5 is out of range"),
             std::string::npos);
   // compress: quench_when is "static" by default, "always" on request, nothing else.
   EXPECT_FALSE(std::get<CompressStage>(parse_deck(kGood, "c.toml").stages[0].params).quench_always);
-  const Deck qa = parse_deck(stage(kGood, "pressure = 100.0", "pressure = 100.0\nquench_interval = 1000\nquench_when = \"always\""), "qa.toml");
+  const Deck qa =
+      parse_deck(stage(kGood, "pressure = 100.0",
+                       "pressure = 100.0\nquench_interval = 1000\nquench_when = \"always\""),
+                 "qa.toml");
   EXPECT_TRUE(std::get<CompressStage>(qa.stages[0].params).quench_always);
-  EXPECT_NE(message_of(stage(kGood, "pressure = 100.0", "pressure = 100.0\nquench_when = \"never\"")).find("quench_when"),
-            std::string::npos);
+  EXPECT_NE(
+      message_of(stage(kGood, "pressure = 100.0", "pressure = 100.0\nquench_when = \"never\""))
+          .find("quench_when"),
+      std::string::npos);
   // quench_delay likewise (0 by default: quenches from the first single cluster).
   EXPECT_EQ(std::get<AggregateStage>(q.stages[2].params).quench_delay, 0);
-  const std::string delayed = stage(agg, "quench_interval = 20000\n", "quench_interval = 20000\nquench_delay = 450000\n");
-  EXPECT_EQ(std::get<AggregateStage>(parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", delayed), "qd.toml").stages[2].params).quench_delay, 450000);
-  EXPECT_NE(message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(delayed, "450000", "-1"))).find("quench_delay: = -1 is out of range"),
-            std::string::npos);
+  const std::string delayed =
+      stage(agg, "quench_interval = 20000\n", "quench_interval = 20000\nquench_delay = 450000\n");
+  EXPECT_EQ(std::get<AggregateStage>(
+                parse_deck(stage(cohesive, "[[stage]]\nkind = \"write\"", delayed), "qd.toml")
+                    .stages[2]
+                    .params)
+                .quench_delay,
+            450000);
+  EXPECT_NE(
+      message_of(stage(cohesive, "[[stage]]\nkind = \"write\"", stage(delayed, "450000", "-1")))
+          .find("quench_delay: = -1 is out of range"),
+      std::string::npos);
 }
 
 TEST(Deck, PerAxisStressAndFixedAxes) {
@@ -217,7 +278,7 @@ TEST(Deck, PerAxisStressAndFixedAxes) {
   const auto& c = std::get<CompressStage>(d.stages[0].params);
   EXPECT_EQ(c.stress, (std::vector<double>{100.0, 300.0}));
   EXPECT_EQ(c.fixed, (std::vector<bool>{true, false}));
-  EXPECT_DOUBLE_EQ(c.pressure, 300.0);  // mean over the stress-controlled axes
+  EXPECT_DOUBLE_EQ(c.pressure, 300.0); // mean over the stress-controlled axes
   std::string both = t;
   both.replace(both.find("stress = ["), 0, "pressure = 5.0\n");
   EXPECT_NE(message_of(both).find("either pressure"), std::string::npos);
@@ -231,8 +292,10 @@ TEST(Deck, PerAxisStressAndFixedAxes) {
 
 TEST(Deck, EveryShippedDeckIsValid) {
   int count = 0;
-  for (const auto& e : std::filesystem::recursive_directory_iterator(test::source_dir() / "jobs" / "decks")) {
-    if (e.path().extension() != ".toml") continue;
+  for (const auto& e :
+       std::filesystem::recursive_directory_iterator(test::source_dir() / "jobs" / "decks")) {
+    if (e.path().extension() != ".toml")
+      continue;
     EXPECT_NO_THROW(load_deck(e.path())) << e.path();
     ++count;
   }
@@ -256,7 +319,9 @@ const std::vector<std::string> kBadDecks = {
     "unknown_stage",     "unknown_table",  "wrong_type",
     "zeta_one"};
 
-std::filesystem::path bad_deck_dir() { return test::source_dir() / "tests" / "decks" / "bad"; }
+std::filesystem::path bad_deck_dir() {
+  return test::source_dir() / "tests" / "decks" / "bad";
+}
 
 /// REGEX of the deck's first line "# expect: REGEX", or "" without one.
 std::string expectation_of(const std::filesystem::path& deck) {
@@ -272,10 +337,11 @@ bool some_line_matches(const std::string& text, const std::string& pattern) {
   const std::regex re(pattern);
   std::istringstream in(text);
   for (std::string line; std::getline(in, line);)
-    if (std::regex_search(line, re)) return true;
+    if (std::regex_search(line, re))
+      return true;
   return false;
 }
-}  // namespace
+} // namespace
 
 class BadDeck : public testing::TestWithParam<std::string> {};
 
@@ -313,7 +379,8 @@ TEST(BadDeckFile, MissingFileIsRefusedOnEveryRank) {
 TEST(BadDecks, TheListIsTheDirectory) {
   std::vector<std::string> found;
   for (const auto& e : std::filesystem::directory_iterator(bad_deck_dir()))
-    if (e.path().extension() == ".toml") found.push_back(e.path().stem().string());
+    if (e.path().extension() == ".toml")
+      found.push_back(e.path().stem().string());
   std::sort(found.begin(), found.end());
   std::vector<std::string> listed = kBadDecks;
   std::sort(listed.begin(), listed.end());

@@ -8,12 +8,12 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "granpack/app/run_deck.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/dynamics/integrator.h"
-#include "granpack/io/deck.h"
 #include "granpack/engine/material_law.h"
 #include "granpack/engine/md_engine.h"
-#include "granpack/app/run_deck.h"
+#include "granpack/io/deck.h"
 #include "granpack/stages/stages.h"
 #include "test_paths.h"
 
@@ -53,8 +53,8 @@ double fcc_hertz_phi(double e_tilde, double a, double P) {
 /// Runs a deck of jobs/decks/ci on MPI_COMM_WORLD into a scratch directory and returns the
 /// report.json entry of its stage `stage`.
 nlohmann::json run_ci_deck(const std::string& deck, int stage) {
-  const auto out = test::scratch_dir("engine_" + deck + "_np" +
-                                     std::to_string(comm_size(MPI_COMM_WORLD)));
+  const auto out =
+      test::scratch_dir("engine_" + deck + "_np" + std::to_string(comm_size(MPI_COMM_WORLD)));
   RunOptions opt;
   opt.deck = test::source_dir() / "jobs/decks/ci" / (deck + ".toml");
   opt.output_dir = out;
@@ -64,7 +64,7 @@ nlohmann::json run_ci_deck(const std::string& deck, int stage) {
   return r["stages"][stage];
 }
 
-}  // namespace
+} // namespace
 
 TEST(Engine, FccHertzReachesTheAnalyticSolidFraction) {
   const nlohmann::json st = run_ci_deck("fcc_hertz", 1);
@@ -80,7 +80,8 @@ TEST(Engine, FccHertzReachesTheAnalyticSolidFraction) {
 namespace {
 
 /// A dense, soft, frictional 3D sample at fixed cell: FCC at Phi = 0.74, then the cell shrunk
-/// by 1 % (Phi = 0.763: every sphere overlaps its 12 neighbours) with random velocities that make grains slide and rotate.
+/// by 1 % (Phi = 0.763: every sphere overlaps its 12 neighbours) with random velocities that make
+/// grains slide and rotate.
 const char* kDenseDeck = R"(
 [sample]
 dimension = 3
@@ -100,8 +101,8 @@ cells = [5, 5, 5]
 )";
 
 struct Snapshot {
-  std::map<GlobalId, std::array<double, 9>> grains;  // force, velocity, omega
-  std::map<std::pair<GlobalId, GlobalId>, std::array<double, 4>> contacts;  // N, T
+  std::map<GlobalId, std::array<double, 9>> grains;                        // force, velocity, omega
+  std::map<std::pair<GlobalId, GlobalId>, std::array<double, 4>> contacts; // N, T
 };
 
 Snapshot gather(MPI_Comm comm, const System<3>& sys) {
@@ -109,25 +110,32 @@ Snapshot gather(MPI_Comm comm, const System<3>& sys) {
   const auto& p = sys.particles;
   for (std::size_t i = 0; i < p.n_owned(); ++i) {
     g.push_back(double(p.id[i]));
-    for (int a = 0; a < 3; ++a) g.push_back(p.force[i][a]);
-    for (int a = 0; a < 3; ++a) g.push_back(p.velocity[i][a]);
-    for (int a = 0; a < 3; ++a) g.push_back(p.angular_velocity[i][a]);
+    for (int a = 0; a < 3; ++a)
+      g.push_back(p.force[i][a]);
+    for (int a = 0; a < 3; ++a)
+      g.push_back(p.velocity[i][a]);
+    for (int a = 0; a < 3; ++a)
+      g.push_back(p.angular_velocity[i][a]);
   }
   for (std::size_t k = 0; k < sys.contacts.size(); ++k) {
     const auto& s = sys.contacts.state(k);
-    if (s.age == 0) continue;
+    if (s.age == 0)
+      continue;
     c.push_back(double(sys.contacts.key(k).first));
     c.push_back(double(sys.contacts.key(k).second));
     c.push_back(s.normal_force);
-    for (int a = 0; a < 3; ++a) c.push_back(s.tangential_force[a]);
+    for (int a = 0; a < 3; ++a)
+      c.push_back(s.tangential_force[a]);
   }
   auto all = [&](const std::vector<double>& v) {
     int n = int(v.size()), size = comm_size(comm);
     std::vector<int> counts(size), displs(size, 0);
     MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    for (int r = 1; r < size; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
     std::vector<double> out(displs.back() + counts.back());
-    MPI_Allgatherv(v.data(), n, MPI_DOUBLE, out.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+    MPI_Allgatherv(v.data(), n, MPI_DOUBLE, out.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                   comm);
     return out;
   };
   Snapshot s;
@@ -165,7 +173,8 @@ Snapshot run_dense(MPI_Comm comm, int steps, Vec<3>* momentum_before = nullptr,
   if (half) {
     std::vector<std::size_t> upper;
     for (std::size_t i = 0; i < p.n_owned(); ++i)
-      if (p.position[i][0] >= 0.5) upper.push_back(i);
+      if (p.position[i][0] >= 0.5)
+        upper.push_back(i);
     p.remove_owned(upper);
   }
   if (min_owned) {
@@ -184,23 +193,28 @@ Snapshot run_dense(MPI_Comm comm, int steps, Vec<3>* momentum_before = nullptr,
   s.skin = 0.1e-3;
   s.stress_control = false;
   MdEngine<3> engine(ctx, make_contact_law<3>(ctx.contact_law), s);
-  if (momentum_before) *momentum_before = Vec<3>(0, 0, 0);
+  if (momentum_before)
+    *momentum_before = Vec<3>(0, 0, 0);
   Vec<3> m0 = momentum(p);
   MPI_Allreduce(MPI_IN_PLACE, m0.data(), 3, MPI_DOUBLE, MPI_SUM, comm);
-  for (int k = 0; k < steps; ++k) engine.step();
+  for (int k = 0; k < steps; ++k)
+    engine.step();
   Vec<3> m1 = momentum(p);
   MPI_Allreduce(MPI_IN_PLACE, m1.data(), 3, MPI_DOUBLE, MPI_SUM, comm);
-  if (momentum_before) *momentum_before = m0;
-  if (momentum_after) *momentum_after = m1;
-  if (momentum_scale) {  // sum of |m v_a|: the size of the terms whose round-off we see
+  if (momentum_before)
+    *momentum_before = m0;
+  if (momentum_after)
+    *momentum_after = m1;
+  if (momentum_scale) { // sum of |m v_a|: the size of the terms whose round-off we see
     double sc = 0;
-    for (std::size_t i = 0; i < p.n_owned(); ++i) sc += p.mass[i] * p.velocity[i].lpNorm<1>();
+    for (std::size_t i = 0; i < p.n_owned(); ++i)
+      sc += p.mass[i] * p.velocity[i].lpNorm<1>();
     *momentum_scale = global_sum(comm, sc);
   }
   return gather(comm, ctx.system);
 }
 
-}  // namespace
+} // namespace
 
 TEST(Engine, MomentumIsConservedAtFixedCell) {
   Vec<3> m0, m1;
@@ -220,39 +234,49 @@ void expect_one_rank_and_all_ranks_agree(bool half) {
   if (half && comm_size(MPI_COMM_WORLD) > 1) {
     EXPECT_EQ(min_owned, 0) << "the test needs a rank without grains";
   }
-  if (comm_rank(MPI_COMM_WORLD) != 0) return;
+  if (comm_rank(MPI_COMM_WORLD) != 0)
+    return;
   Snapshot ser = run_dense(MPI_COMM_SELF, 1000, nullptr, nullptr, nullptr, half);
   const std::size_t n = half ? 250u : 500u;
   ASSERT_EQ(par.grains.size(), n);
   ASSERT_EQ(ser.grains.size(), n);
   std::vector<std::pair<GlobalId, GlobalId>> kp, ks;
-  for (const auto& [k, v] : par.contacts) kp.push_back(k);
-  for (const auto& [k, v] : ser.contacts) ks.push_back(k);
+  for (const auto& [k, v] : par.contacts)
+    kp.push_back(k);
+  for (const auto& [k, v] : ser.contacts)
+    ks.push_back(k);
   ASSERT_EQ(kp, ks) << "contact sets differ";
   double nmax = 0, cworst = 0;
-  for (const auto& [k, v] : ser.contacts) nmax = std::max(nmax, std::abs(v[0]));
+  for (const auto& [k, v] : ser.contacts)
+    nmax = std::max(nmax, std::abs(v[0]));
   // Net forces are sums of ~12 contact forces that nearly cancel; the two runs add them in
   // different orders (ghost contributions arrive by reverse communication), so their
   // round-off is relative to the contact forces, not to the small net force.
   double worst = 0;
   for (const auto& [id, v] : ser.grains) {
     const auto& w = par.grains.at(id);
-    for (int a = 0; a < 3; ++a) worst = std::max(worst, std::abs(w[a] - v[a]) / nmax);
+    for (int a = 0; a < 3; ++a)
+      worst = std::max(worst, std::abs(w[a] - v[a]) / nmax);
   }
   EXPECT_LT(worst, 1e-12) << "largest net force difference relative to the largest contact force";
   for (const auto& [k, v] : ser.contacts) {
     const auto& w = par.contacts.at(k);
-    for (int a = 0; a < 4; ++a) cworst = std::max(cworst, std::abs(w[a] - v[a]) / nmax);
+    for (int a = 0; a < 4; ++a)
+      cworst = std::max(cworst, std::abs(w[a] - v[a]) / nmax);
   }
   EXPECT_LT(cworst, 1e-12) << "largest contact force difference relative to the largest";
 }
 
-TEST(Engine, OneRankAndAllRanksAgreeAfter1000Steps) { expect_one_rank_and_all_ranks_agree(false); }
+TEST(Engine, OneRankAndAllRanksAgreeAfter1000Steps) {
+  expect_one_rank_and_all_ranks_agree(false);
+}
 
 // A slab filling half the cell in x: on 2 ranks (2x1x1) rank 1 has no grain, on 3 (3x1x1)
 // rank 2, on 4 (2x2x1) ranks 2 and 3. Empty ranks take part in every exchange and all-reduce
 // with nothing to send; grains that drift across the slab's free faces migrate to them.
-TEST(Engine, OneRankAndAllRanksAgreeWithRanksWithoutGrains) { expect_one_rank_and_all_ranks_agree(true); }
+TEST(Engine, OneRankAndAllRanksAgreeWithRanksWithoutGrains) {
+  expect_one_rank_and_all_ranks_agree(true);
+}
 
 TEST(Engine, GasSmallCompressesToEquilibrium) {
   // jobs/decks/ci/gas_small.toml: 500 frictional soft spheres (kappa = 1000, mu = 0.3) from a

@@ -61,7 +61,9 @@ std::uint64_t env_count(const char* name, std::uint64_t fallback) {
   const char* v = std::getenv(name);
   return v && *v ? std::strtoull(v, nullptr, 10) : fallback;
 }
-std::uint64_t fuzz_seed() { return env_count("GRANPACK_FUZZ_SEED", 20261201); }
+std::uint64_t fuzz_seed() {
+  return env_count("GRANPACK_FUZZ_SEED", 20261201);
+}
 
 /// The generator of input i: independent of the rank count.
 fuzz::Rng input_rng(std::uint64_t salt, std::uint64_t i) {
@@ -121,7 +123,7 @@ private:
   bool active_ = false;
 };
 
-constexpr int kMaxReported = 10;  // failures printed in full; all are counted
+constexpr int kMaxReported = 10; // failures printed in full; all are counted
 
 /// Counts a violation; the first kMaxReported are reported in full with the saved input.
 void report(std::int64_t& failed, const std::string& input, const fs::path& saved,
@@ -130,7 +132,7 @@ void report(std::int64_t& failed, const std::string& input, const fs::path& save
     ADD_FAILURE() << input << " (saved as " << saved.string() << "): " << verdict;
 }
 
-}  // namespace
+} // namespace
 
 // ------------------------------------------------------------------------------------------
 // Regressions: one case per bug the fuzzing found (docs/fuzzing.md), with the expected text.
@@ -148,7 +150,7 @@ const char* kHead = "[sample]\ndimension = 3\nn = 256\ndiameter = 1e-3\n"
                     "[material]\ndensity = 2500.0\nyoung_modulus = 7e10\npoisson_ratio = 0.3\n"
                     "friction = 0.3\ndamping = 0.9\n";
 const char* kLattice = "[[stage]]\nkind = \"lattice\"\nphi = 0.6\n";
-}  // namespace
+} // namespace
 
 TEST(FuzzRegressions, DeepArraysAreRefusedNotAStackOverflow) {
   // toml11 recursed once per level: 10^4 nested arrays overflowed the stack (SIGSEGV).
@@ -161,7 +163,8 @@ TEST(FuzzRegressions, DeepArraysAreRefusedNotAStackOverflow) {
             "r.toml:4: arrays, inline tables or dotted keys nested more than 64 levels deep "
             "(see docs/deck.md)");
   std::string tables = "x = ";
-  for (int i = 0; i < 100000; ++i) tables += "{a=";
+  for (int i = 0; i < 100000; ++i)
+    tables += "{a=";
   EXPECT_NE(deck_message(kHead + tables + "\n" + kLattice).find("r.toml:11: arrays, inline"),
             std::string::npos);
 }
@@ -169,7 +172,8 @@ TEST(FuzzRegressions, DeepArraysAreRefusedNotAStackOverflow) {
 TEST(FuzzRegressions, LongDottedKeysAreRefusedQuickly) {
   // toml11 handled a dotted key in quadratic time: 10^5 parts took minutes (a hang).
   std::string key = "[sample";
-  for (int i = 0; i < 100000; ++i) key += ".x";
+  for (int i = 0; i < 100000; ++i)
+    key += ".x";
   // The guard is this process's CPU time, not the wall clock, so that a loaded machine cannot
   // fail it: linear parsing takes milliseconds, the quadratic one took minutes.
   const double cpu0 = cpu_seconds();
@@ -225,7 +229,8 @@ TEST(FuzzRegressions, InvalidUtf8IsRefusedBeforeToml11) {
   EXPECT_EQ(deck_message(std::string(kHead) + "[[stage]]\nname = \"\xed\xa0\x80\"\n"),
             "r.toml:12: invalid UTF-8 (byte 0xED): a deck must be UTF-8 text");
   // Well-formed UTF-8 is fine.
-  EXPECT_EQ(deck_message(std::string(kHead) + kLattice + "name = \"\xc3\xa9t\xc3\xa9 \xf0\x9f\x98\x80\"\n"),
+  EXPECT_EQ(deck_message(std::string(kHead) + kLattice +
+                         "name = \"\xc3\xa9t\xc3\xa9 \xf0\x9f\x98\x80\"\n"),
             "(accepted)");
 }
 
@@ -261,7 +266,7 @@ template <class F> fs::path seed_changed(const fs::path& dir, const std::string&
   H5Fclose(f);
   return p;
 }
-}  // namespace
+} // namespace
 
 TEST(FuzzRegressions, HugeDeclaredDatasetsAreRefusedBeforeAllocating) {
   // n_particles = 2^33 with datasets of that shape and no storage (a 17 kB file): the reader
@@ -270,7 +275,8 @@ TEST(FuzzRegressions, HugeDeclaredDatasetsAreRefusedBeforeAllocating) {
   const std::int64_t n = std::int64_t{1} << 33;
   const auto p = seed_changed(tmp.path, "huge.h5", [&](hid_t f) {
     for (const auto& d : fuzz::h5m::datasets()) {
-      if (d.rfind("/particles/", 0) != 0) continue;
+      if (d.rfind("/particles/", 0) != 0)
+        continue;
       std::vector<hsize_t> dims;
       fuzz::h5m::read_all<double>(f, d, H5T_NATIVE_DOUBLE, &dims);
       dims[0] = static_cast<hsize_t>(n);
@@ -286,7 +292,10 @@ TEST(FuzzRegressions, HugeDeclaredDatasetsAreRefusedBeforeAllocating) {
   const long rss0_kib = peak_rss_kib();
   const std::string m = read_message<3>(p);
   EXPECT_EQ(m.rfind(p.string() + ": dataset /particles/id declares 68719476736 bytes of data but "
-                                 "the file holds 0 for it", 0), 0u) << m;
+                                 "the file holds 0 for it",
+                    0),
+            0u)
+      << m;
   EXPECT_LT(peak_rss_kib() - rss0_kib, 1024L * 1024L);
   EXPECT_LT(cpu_seconds() - cpu0, 20.0);
   // The same for a fixed-length /deck string declared 1 GiB long.
@@ -297,7 +306,8 @@ TEST(FuzzRegressions, HugeDeclaredDatasetsAreRefusedBeforeAllocating) {
     H5Tclose(t);
   });
   EXPECT_NE(read_message<3>(q).find("dataset /deck declares 1073741824 bytes of data but the file "
-                                    "holds 0"), std::string::npos);
+                                    "holds 0"),
+            std::string::npos);
   // A compressed copy of a dataset is still a valid file: the bound allows for it.
   const auto c = seed_changed(tmp.path, "deflate.h5", [](hid_t f) {
     std::vector<hsize_t> dims;
@@ -332,7 +342,7 @@ TEST(FuzzRegressions, NonFiniteOrFarPositionsAndBadRadiiAreRefused) {
   p = poke("r0.h5", "/particles/radius", 2, 0.0);
   EXPECT_EQ(read_message<3>(p),
             p.string() + ": /particles/radius row 2 = 0.000000 (need a positive finite radius)");
-  p = poke("slightly.h5", "/particles/scaled_position", 3, -1e-9);  // between rebuilds: fine
+  p = poke("slightly.h5", "/particles/scaled_position", 3, -1e-9); // between rebuilds: fine
   EXPECT_EQ(read_message<3>(p), "(read)");
 }
 
@@ -350,8 +360,9 @@ TEST(FuzzRegressions, TruncatedSuperblockIsRefusedSilently) {
   const fs::path p = tmp.path / "cut.h5";
   fuzz::write_bytes(p, std::string(reinterpret_cast<const char*>(cut), sizeof cut));
   EXPECT_EQ(fuzz::check_h5(p, tmp.path), "");
-  EXPECT_EQ(read_message<3>(p).rfind(p.string() + ": cannot open as HDF5 (truncated or corrupt?)", 0),
-            0u);
+  EXPECT_EQ(
+      read_message<3>(p).rfind(p.string() + ": cannot open as HDF5 (truncated or corrupt?)", 0),
+      0u);
 }
 
 TEST(FuzzRegressions, CorruptGlobalHeapsAreRefusedBeforeHdf5FollowsThem) {
@@ -531,7 +542,8 @@ TEST(FuzzHdf5, MutatedFilesAreReadOrRefusedWithAnInputError) {
       read_file_meta(MPI_COMM_SELF, input);
       ++meta_ok;
     } catch (const std::exception& e) {
-      hdf5_oom += std::string(e.what()).find("(HDF5: memory allocation failed") != std::string::npos;
+      hdf5_oom +=
+          std::string(e.what()).find("(HDF5: memory allocation failed") != std::string::npos;
     }
     if (verdict.empty())
       continue;
@@ -551,7 +563,7 @@ TEST(FuzzHdf5, MutatedFilesAreReadOrRefusedWithAnInputError) {
                 static_cast<long long>(meta_ok), static_cast<long long>(failed),
                 static_cast<long long>(hdf5_oom), slowest);
   EXPECT_EQ(failed, 0);
-  EXPECT_GT(meta_ok, tried / 20);  // the mutations are not all caught at the first check
+  EXPECT_GT(meta_ok, tried / 20); // the mutations are not all caught at the first check
 }
 
 // ------------------------------------------------------------------------------------------

@@ -21,7 +21,7 @@ template <int dim> std::vector<Particle<dim>> random_grains(int n, unsigned seed
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<Particle<dim>> all(n);
   for (int k = 0; k < n; ++k) {
-    all[k].id = 1000 + 3 * k;  // ids need not be contiguous
+    all[k].id = 1000 + 3 * k; // ids need not be contiguous
     all[k].radius = 0.01 + 0.01 * u(rng);
     all[k].mass = 1.0 + u(rng);
     for (int a = 0; a < dim; ++a) {
@@ -35,11 +35,13 @@ template <int dim> std::vector<Particle<dim>> random_grains(int n, unsigned seed
 /// Every periodic image (shift in {-1,0,1}^dim) of every grain inside the box expanded by w,
 /// except the owned grains themselves: what the ghost layer must contain.
 template <int dim>
-std::multiset<std::pair<GlobalId, std::vector<int>>> expected_ghosts(
-    const std::vector<Particle<dim>>& all, const Decomposition<dim>& d, const Vec<dim>& w) {
+std::multiset<std::pair<GlobalId, std::vector<int>>>
+expected_ghosts(const std::vector<Particle<dim>>& all, const Decomposition<dim>& d,
+                const Vec<dim>& w) {
   std::multiset<std::pair<GlobalId, std::vector<int>>> out;
   int nshift = 1;
-  for (int a = 0; a < dim; ++a) nshift *= 3;
+  for (int a = 0; a < dim; ++a)
+    nshift *= 3;
   for (const auto& q : all) {
     for (int code = 0; code < nshift; ++code) {
       std::vector<int> sh(dim);
@@ -52,8 +54,10 @@ std::multiset<std::pair<GlobalId, std::vector<int>>> expected_ghosts(
         inside = inside && x >= d.lo()[a] - w[a] && x < d.hi()[a] + w[a];
         zero = zero && sh[a] == 0;
       }
-      if (!inside) continue;
-      if (zero && d.owns(q.position)) continue;
+      if (!inside)
+        continue;
+      if (zero && d.owns(q.position))
+        continue;
       out.insert({q.id, sh});
     }
   }
@@ -67,7 +71,8 @@ template <int dim> void check_halo(double width) {
   std::map<GlobalId, Vec<dim>> pos_of;
   for (const auto& q : all) {
     pos_of[q.id] = q.position;
-    if (d.owns(q.position)) p.add_owned(q);
+    if (d.owns(q.position))
+      p.add_owned(q);
   }
   Vec<dim> w = Vec<dim>::Constant(width);
   Halo<dim> halo;
@@ -98,24 +103,34 @@ template <int dim> void check_halo(double width) {
 
   // reverse: each ghost carries force 1; each owner receives one per copy of itself
   p.clear_forces();
-  for (std::size_t g = p.n_owned(); g < p.size(); ++g) p.force[g] = Vec<dim>::Ones();
+  for (std::size_t g = p.n_owned(); g < p.size(); ++g)
+    p.force[g] = Vec<dim>::Ones();
   // copies of each grain over all ranks, indexed like `all`
   std::map<GlobalId, std::size_t> index_of;
-  for (std::size_t k = 0; k < all.size(); ++k) index_of[all[k].id] = k;
+  for (std::size_t k = 0; k < all.size(); ++k)
+    index_of[all[k].id] = k;
   std::vector<double> copies(all.size(), 0.0), total(all.size(), 0.0);
-  for (std::size_t g = p.n_owned(); g < p.size(); ++g) copies[index_of[p.id[g]]] += 1.0;
+  for (std::size_t g = p.n_owned(); g < p.size(); ++g)
+    copies[index_of[p.id[g]]] += 1.0;
   MPI_Allreduce(copies.data(), total.data(), int(all.size()), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
   halo.reverse(p, d);
-  for (std::size_t g = p.n_owned(); g < p.size(); ++g) EXPECT_EQ(p.force[g][0], 0.0);
+  for (std::size_t g = p.n_owned(); g < p.size(); ++g)
+    EXPECT_EQ(p.force[g][0], 0.0);
   for (std::size_t i = 0; i < p.n_owned(); ++i)
     EXPECT_EQ(p.force[i][0], total[index_of[p.id[i]]]) << "grain " << p.id[i];
 }
 
-}  // namespace
+} // namespace
 
-TEST(Halo, GhostLayerEqualsBruteForceImages2D) { check_halo<2>(0.08); }
-TEST(Halo, GhostLayerEqualsBruteForceImages3D) { check_halo<3>(0.08); }
-TEST(Halo, WideLayerStillExact3D) { check_halo<3>(0.3); }
+TEST(Halo, GhostLayerEqualsBruteForceImages2D) {
+  check_halo<2>(0.08);
+}
+TEST(Halo, GhostLayerEqualsBruteForceImages3D) {
+  check_halo<3>(0.08);
+}
+TEST(Halo, WideLayerStillExact3D) {
+  check_halo<3>(0.3);
+}
 
 TEST(Migration, GrainsAndTheirContactsReachTheirOwners) {
   constexpr int dim = 3;
@@ -127,14 +142,16 @@ TEST(Migration, GrainsAndTheirContactsReachTheirOwners) {
   System<dim> sys;
   // Deliberately wrong initial split: round robin by index, positions slightly outside [0,1).
   for (std::size_t k = 0; k < all.size(); ++k) {
-    if (int(k % size) != rank) continue;
+    if (int(k % size) != rank)
+      continue;
     auto q = all[k];
-    if (k % 5 == 0) q.position[0] -= 1.0;  // must be wrapped back
+    if (k % 5 == 0)
+      q.position[0] -= 1.0; // must be wrapped back
     sys.particles.add_owned(q);
     ContactState<dim> s;
     s.normal_force = double(q.id);
     s.age = 17;
-    sys.contacts.insert(ContactKey::of(q.id, q.id + 1), s);  // owned by q (smaller id)
+    sys.contacts.insert(ContactKey::of(q.id, q.id + 1), s); // owned by q (smaller id)
   }
   migrate(sys, d);
   EXPECT_EQ(global_sum(MPI_COMM_WORLD, std::int64_t(sys.particles.n_owned())), 2000);

@@ -391,7 +391,8 @@ TYPED_TEST(Hdf5Store, BadFilesThrowInputErrorOnEveryRank) {
 namespace {
 /// Reads dataset `name` of the file at `path` whole, changes it with `change` and writes it
 /// back (serial HDF5; rank 0 only).
-template <class T, class F> void poke(const fs::path& path, const char* name, hid_t type, F change) {
+template <class T, class F>
+void poke(const fs::path& path, const char* name, hid_t type, F change) {
   const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
   const hid_t space = H5Dget_space(d);
@@ -403,7 +404,7 @@ template <class T, class F> void poke(const fs::path& path, const char* name, hi
   H5Dclose(d);
   H5Fclose(f);
 }
-}  // namespace
+} // namespace
 
 // Files that are well-formed HDF5 but contradict themselves: refused on every rank, with the
 // same message whichever ranks' slices hold the offending rows (the id checks compare rows
@@ -421,11 +422,13 @@ TYPED_TEST(Hdf5Store, InconsistentFilesAreRefusedOnEveryRank) {
       {"duplicate_id.h5", "appears 2 times in /particles/id (ids must be unique)"},
       {"missing_grain.h5", "a contact names grain 1000000, which /particles/id does not hold"},
       {"nan_velocity.h5", "/particles/velocity row 3 holds nan (need finite values)"},
-      {"negative_force.h5", "/contacts/normal_force row 5 = -1.000000 (the elastic normal force N^e is never negative"},
+      {"negative_force.h5",
+       "/contacts/normal_force row 5 = -1.000000 (the elastic normal force N^e is never negative"},
       {"zero_mass.h5", "/particles/mass or /particles/inertia row 2 = 0.000000"},
   };
   if (world_rank() == 0) {
-    for (const auto& c : cases) fs::copy_file(good, dir / c.file, fs::copy_options::overwrite_existing);
+    for (const auto& c : cases)
+      fs::copy_file(good, dir / c.file, fs::copy_options::overwrite_existing);
     poke<std::int64_t>(dir / "duplicate_id.h5", "/particles/id", H5T_NATIVE_INT64,
                        [](auto& v) { v.back() = v.front(); });
     poke<std::int64_t>(dir / "missing_grain.h5", "/contacts/second", H5T_NATIVE_INT64,
@@ -434,16 +437,19 @@ TYPED_TEST(Hdf5Store, InconsistentFilesAreRefusedOnEveryRank) {
                  [](auto& v) { v[3 * dim + 1] = std::numeric_limits<double>::quiet_NaN(); });
     poke<double>(dir / "negative_force.h5", "/contacts/normal_force", H5T_NATIVE_DOUBLE,
                  [](auto& v) { v[5] = -1.0; });
-    poke<double>(dir / "zero_mass.h5", "/particles/mass", H5T_NATIVE_DOUBLE, [](auto& v) { v[2] = 0.0; });
+    poke<double>(dir / "zero_mass.h5", "/particles/mass", H5T_NATIVE_DOUBLE,
+                 [](auto& v) { v[2] = 0.0; });
   }
   MPI_Barrier(MPI_COMM_WORLD);
   for (const auto& c : cases) {
     const auto p = dir / c.file;
-    expect_input_error(p, [&] { read_configuration<dim>(MPI_COMM_WORLD, p); }, c.file);
+    expect_input_error(
+        p, [&] { read_configuration<dim>(MPI_COMM_WORLD, p); }, c.file);
     try {
       read_configuration<dim>(MPI_COMM_WORLD, p);
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos) << c.file << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos)
+          << c.file << ": " << e.what();
     }
   }
   // The unchanged file still reads.
@@ -494,7 +500,8 @@ TYPED_TEST(Hdf5Store, FailedWriteLeavesThePreviousFileUntouched) {
              // a quota, which statvfs cannot see.
              std::string(e.what()).find("most likely a disk quota (Disk quota exceeded, EDQUOT") !=
                  std::string::npos;
-    if (!thrown) ADD_FAILURE() << e.exit_code() << ": " << e.what();
+    if (!thrown)
+      ADD_FAILURE() << e.exit_code() << ": " << e.what();
   }
   detail::set_hdf5_write_hook(nullptr);
   EXPECT_TRUE(all_ranks(thrown));
@@ -539,12 +546,14 @@ TYPED_TEST(Hdf5Store, FailedWriteLeavesThePreviousFileUntouched) {
 TEST(CommittedFiles, ReadAsInfoReadsThem) {
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(test::source_dir() / "docs/data"))
-    if (e.is_regular_file() && e.path().extension() == ".h5") files.push_back(e.path());
+    if (e.is_regular_file() && e.path().extension() == ".h5")
+      files.push_back(e.path());
   const fs::path runs = test::source_dir() / "jobs/runs";
   if (fs::is_directory(runs))
     for (const auto& e : fs::directory_iterator(runs))
-      if (fs::is_regular_file(e.path() / "checkpoint.h5")) files.push_back(e.path() / "checkpoint.h5");
-  std::sort(files.begin(), files.end());  // the same order on every rank
+      if (fs::is_regular_file(e.path() / "checkpoint.h5"))
+        files.push_back(e.path() / "checkpoint.h5");
+  std::sort(files.begin(), files.end()); // the same order on every rank
   EXPECT_GE(files.size(), 1u);
   for (const auto& f : files) {
     std::string text;
@@ -555,9 +564,11 @@ TEST(CommittedFiles, ReadAsInfoReadsThem) {
       continue;
     }
     EXPECT_TRUE(text.rfind("particles:", 0) == 0 || text.find("\nparticles:") != std::string::npos)
-        << f << ":\n" << text;
+        << f << ":\n"
+        << text;
   }
-  if (world_rank() == 0) std::printf("[ committed ] %zu files read\n", files.size());
+  if (world_rank() == 0)
+    std::printf("[ committed ] %zu files read\n", files.size());
 }
 
 TYPED_TEST(Hdf5Store, DescribeAndXdmfSidecar) {

@@ -13,22 +13,26 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "mpi_world.h"
 #include "granpack/analysis/rigidity_blocks.h"
-#include "granpack/packing/packing_view.h"
-#include "granpack/app/stiffness.h"
-#include "granpack/io/hdf5_store.h"
-#include "granpack/engine/material_law.h"
 #include "granpack/app/run_deck.h"
+#include "granpack/app/stiffness.h"
+#include "granpack/engine/material_law.h"
+#include "granpack/io/hdf5_store.h"
+#include "granpack/packing/packing_view.h"
 #include "granpack/rigidity/stiffness_system.h"
+#include "mpi_world.h"
 #include "test_paths.h"
 
 using namespace granpack;
 
 namespace {
 
-int rank_of() { return test::world_rank(); }
-int size_of() { return test::world_size(); }
+int rank_of() {
+  return test::world_rank();
+}
+int size_of() {
+  return test::world_size();
+}
 
 nlohmann::json run_stiffness(const std::filesystem::path& file, double threshold = 1e-4) {
   StiffnessOptions o;
@@ -43,7 +47,8 @@ nlohmann::json run_stiffness(const std::filesystem::path& file, double threshold
 /// Runs a deck (text) into a scratch directory; returns final.h5.
 std::filesystem::path run_text_deck(const std::string& tag, const std::string& text) {
   const auto dir = test::scratch_dir(tag + "_np" + std::to_string(size_of()));
-  if (rank_of() == 0) std::ofstream(dir / "deck.toml") << text;
+  if (rank_of() == 0)
+    std::ofstream(dir / "deck.toml") << text;
   MPI_Barrier(MPI_COMM_WORLD);
   RunOptions opt;
   opt.deck = dir / "deck.toml";
@@ -64,20 +69,25 @@ dimension = 3
 n = 108
 diameter = 1.0e-3
 seed = 3
-)" + std::string(mu > 0 ? "" : "distribution = \"uniform\"\nmin_diameter_ratio = 0.8\n") + R"(
+)" + std::string(mu > 0 ? "" : "distribution = \"uniform\"\nmin_diameter_ratio = 0.8\n") +
+         R"(
 [material]
 density = 2500.0
 normal_law = "hertz"
 young_modulus = 2.88e8
 poisson_ratio = 0.3
-friction = )" + std::to_string(mu) + R"(
+friction = )" +
+         std::to_string(mu) + R"(
 damping = 0.98
 
 [output]
 log_every = 100000
 
-)" + std::string(mu > 0 ? "[[stage]]\nkind = \"lattice\"\nlattice = \"fcc\"\nphi = 0.45\ncells = [3, 3, 3]\n"
-                         : "[[stage]]\nkind = \"random\"\nphi = 0.35\n") + R"(
+)" +
+         std::string(mu > 0 ? "[[stage]]\nkind = \"lattice\"\nlattice = \"fcc\"\nphi = 0.45\ncells "
+                              "= [3, 3, 3]\n"
+                            : "[[stage]]\nkind = \"random\"\nphi = 0.35\n") +
+         R"(
 [[stage]]
 kind = "ed_gas"
 collisions_per_grain = 50
@@ -92,7 +102,7 @@ quench_interval = 20000
 
 struct Dense {
   std::int64_t mechanisms = 0, rows = 0, dof = 0;
-  std::int64_t k1_negative = 0;  ///< eigenvalues below -1e-9 <k_n> of the pinned, stiffened K(1)_uu
+  std::int64_t k1_negative = 0; ///< eigenvalues below -1e-9 <k_n> of the pinned, stiffened K(1)_uu
   double bulk_k1 = 0, bulk = 0, smallest_kept_singular = 0, largest_dropped_singular = 0;
 };
 
@@ -100,12 +110,14 @@ struct Dense {
 /// Eigen matrices, with an SVD for the rank of G and dense linear algebra for B. With
 /// cohesion the network is the whole interaction network, as `granpack stiffness` takes it.
 template <int dim>
-Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j, double threshold) {
+Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j,
+                      double threshold) {
   using TensorD = Eigen::Matrix<double, dim, dim>;
   const FileMeta meta = read_file_meta(MPI_COMM_SELF, file);
   PackingView<dim> v = load_packing<dim>(MPI_COMM_SELF, file, meta, threshold, 1.5);
   const ContactLaw<dim>& law = v.law;
-  if (law.cohesion) select_interaction_network(v);
+  if (law.cohesion)
+    select_interaction_network(v);
   RigidityLayout<dim> l;
   l.rotations = law.friction.mu > 0;
   l.rolling = l.rotations && law.rolling.has_value();
@@ -114,16 +126,19 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
   const auto& p = v.particles();
   std::map<GlobalId, int> index;
   for (std::size_t i = 0; i < p.n_owned(); ++i)
-    if (!v.rattler(i)) index.emplace(p.id[i], 0);
+    if (!v.rattler(i))
+      index.emplace(p.id[i], 0);
   int next = 0;
-  for (auto& [id, k] : index) k = next++;
+  for (auto& [id, k] : index)
+    k = next++;
   const int g = l.grain_dofs();
   const int nf = next * g + dim;
   std::vector<RigidityContact<dim>> cs;
   std::vector<std::pair<int, int>> ends;
   int rows_total = 0;
   for (const auto& c : v.contacts) {
-    if (!on_backbone(v, c)) continue;
+    if (!on_backbone(v, c))
+      continue;
     cs.push_back(make_rigidity_contact(v, c, law, l));
     ends.emplace_back(index.at(p.id[c.i]), index.at(p.id[c.j]));
     rows_total += l.rows_per_contact(c.distant);
@@ -134,17 +149,23 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
   int touching = 0, row = 0;
   for (std::size_t c = 0; c < cs.size(); ++c) {
     std::vector<int> dofs;
-    for (int d = 0; d < g; ++d) dofs.push_back(ends[c].first * g + d);
-    for (int d = 0; d < g; ++d) dofs.push_back(ends[c].second * g + d);
-    for (int a = 0; a < dim; ++a) dofs.push_back(next * g + a);
+    for (int d = 0; d < g; ++d)
+      dofs.push_back(ends[c].first * g + d);
+    for (int d = 0; d < g; ++d)
+      dofs.push_back(ends[c].second * g + d);
+    for (int a = 0; a < dim; ++a)
+      dofs.push_back(next * g + a);
     const DynMatrix rows = rigidity_rows(cs[c], l);
     const DynMatrix k1 = constitutive_block(cs[c], l), k = k1 + geometric_block(cs[c], l);
     for (std::size_t a = 0; a < dofs.size(); ++a) {
-      for (int r = 0; r < rows.rows(); ++r) G(row + r, dofs[a]) += rows(r, a);
-      for (std::size_t b = 0; b < dofs.size(); ++b) K1(dofs[a], dofs[b]) += k1(a, b), K(dofs[a], dofs[b]) += k(a, b);
+      for (int r = 0; r < rows.rows(); ++r)
+        G(row + r, dofs[a]) += rows(r, a);
+      for (std::size_t b = 0; b < dofs.size(); ++b)
+        K1(dofs[a], dofs[b]) += k1(a, b), K(dofs[a], dofs[b]) += k(a, b);
     }
     row += int(rows.rows());
-    if (!cs[c].distant) kbar += cs[c].stiffness.k_n, ++touching;
+    if (!cs[c].distant)
+      kbar += cs[c].stiffness.k_n, ++touching;
   }
   kbar /= double(touching);
   Dense out;
@@ -155,8 +176,10 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
   std::int64_t rank = 0;
   out.smallest_kept_singular = sv[0];
   for (int k = 0; k < sv.size(); ++k) {
-    if (sv[k] > 1e-9 * sv[0]) ++rank, out.smallest_kept_singular = sv[k];
-    else out.largest_dropped_singular = std::max(out.largest_dropped_singular, sv[k]);
+    if (sv[k] > 1e-9 * sv[0])
+      ++rank, out.smallest_kept_singular = sv[k];
+    else
+      out.largest_dropped_singular = std::max(out.largest_dropped_singular, sv[k]);
   }
   out.mechanisms = nf - rank;
 
@@ -165,7 +188,8 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
     const TensorD kc = l.cell.asDiagonal() * schur * l.cell.asDiagonal();
     TensorD c = kc / v.system.cell.volume();
     if (with_stress)
-      for (int a = 0; a < dim; ++a) c.row(a).array() += v.stress(a, a);
+      for (int a = 0; a < dim; ++a)
+        c.row(a).array() += v.stress(a, a);
     return c.sum() / double(dim * dim);
   };
   // The same pinned grain and stiffened rolling modes as the distributed code.
@@ -175,8 +199,10 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
         const int gi = index.at(d["grain"].get<GlobalId>());
         std::vector<granpack::Vec<3>> pts;
         for (std::size_t c = 0; c < cs.size(); ++c) {
-          if (ends[c].first == gi) pts.push_back(cs[c].geometry.branch_i());
-          if (ends[c].second == gi) pts.push_back(cs[c].geometry.branch_j());
+          if (ends[c].first == gi)
+            pts.push_back(cs[c].geometry.branch_i());
+          if (ends[c].second == gi)
+            pts.push_back(cs[c].geometry.branch_j());
         }
         EXPECT_EQ(pts.size(), 2u);
         const auto vmode = divalent_rolling_mode(pts[0], pts[1], l.ell);
@@ -193,9 +219,11 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
   };
   {
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(pinned(K1).topLeftCorner(nu, nu));
-    for (int k = 0; k < nu; ++k) out.k1_negative += es.eigenvalues()[k] < -1e-9 * kbar;
+    for (int k = 0; k < nu; ++k)
+      out.k1_negative += es.eigenvalues()[k] < -1e-9 * kbar;
   }
-  if (!j["moduli_valid"].get<bool>()) return out;  // floppy or unstable: no response to compare
+  if (!j["moduli_valid"].get<bool>())
+    return out; // floppy or unstable: no response to compare
 
   // K(1): the grain block's pseudo-inverse (the border lies in its range, K1 = ᵀG 𝒦 G).
   {
@@ -204,30 +232,36 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
     const double top = lam.cwiseAbs().maxCoeff();
     Eigen::VectorXd inv = Eigen::VectorXd::Zero(nu);
     for (int k = 0; k < nu; ++k)
-      if (std::abs(lam[k]) > 1e-10 * top) inv[k] = 1.0 / lam[k];
-    const Eigen::MatrixXd pinv = es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
-    const TensorD schur = K1.bottomRightCorner(dim, dim) - K1.bottomLeftCorner(dim, nu) * pinv * K1.topRightCorner(nu, dim);
+      if (std::abs(lam[k]) > 1e-10 * top)
+        inv[k] = 1.0 / lam[k];
+    const Eigen::MatrixXd pinv =
+        es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+    const TensorD schur = K1.bottomRightCorner(dim, dim) -
+                          K1.bottomLeftCorner(dim, nu) * pinv * K1.topRightCorner(nu, dim);
     out.bulk_k1 = bulk_of(schur, false);
   }
   // K: dense LU of the pinned grain block.
   {
     const Eigen::MatrixXd kp = pinned(K);
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(kp.topLeftCorner(nu, nu));
-    const TensorD schur = kp.bottomRightCorner(dim, dim) - kp.bottomLeftCorner(dim, nu) * lu.solve(kp.topRightCorner(nu, dim));
+    const TensorD schur = kp.bottomRightCorner(dim, dim) -
+                          kp.bottomLeftCorner(dim, nu) * lu.solve(kp.topRightCorner(nu, dim));
     out.bulk = bulk_of(schur, true);
   }
   return out;
 }
 
 /// The distributed result against the dense one (rank 0).
-template <int dim> void expect_matches_dense(const std::string& tag, const std::filesystem::path& file,
-                                             const nlohmann::json& json, double threshold) {
+template <int dim>
+void expect_matches_dense(const std::string& tag, const std::filesystem::path& file,
+                          const nlohmann::json& json, double threshold) {
   const Dense d = dense_reference<dim>(file, json, threshold);
   // The rank decision is clear-cut: a wide gap between kept and dropped singular values.
   EXPECT_LT(d.largest_dropped_singular, 1e-12 * d.smallest_kept_singular);
   EXPECT_EQ(json["N_f"].get<std::int64_t>(), d.dof);
   EXPECT_EQ(json["G_rows"].get<std::int64_t>(), d.rows);
-  EXPECT_EQ(json["mechanisms"].get<std::int64_t>(), d.mechanisms) << tag << ", threshold " << threshold;
+  EXPECT_EQ(json["mechanisms"].get<std::int64_t>(), d.mechanisms)
+      << tag << ", threshold " << threshold;
   EXPECT_EQ(json["H"].get<std::int64_t>(), d.rows + d.mechanisms - d.dof);
   // Measured with distant pairs; without, K(1) = ᵀG 𝒦 G is positive semi-definite, which the
   // dense spectrum confirms.
@@ -235,15 +269,18 @@ template <int dim> void expect_matches_dense(const std::string& tag, const std::
   if (json["distant_pairs"].get<std::int64_t>() == 0) {
     EXPECT_EQ(d.k1_negative, 0) << tag;
   }
-  std::printf("[ stiffness ] %s, threshold %g: k = %lld (dense %lld), H = %lld, K(1) negative %lld (dense %lld)\n",
-              tag.c_str(), threshold, (long long)json["mechanisms"].get<std::int64_t>(), (long long)d.mechanisms,
-              (long long)json["H"].get<std::int64_t>(), (long long)json["K1_negative_pivots"].get<std::int64_t>(),
-              (long long)d.k1_negative);
-  if (!json["moduli_valid"].get<bool>()) return;
+  std::printf("[ stiffness ] %s, threshold %g: k = %lld (dense %lld), H = %lld, K(1) negative %lld "
+              "(dense %lld)\n",
+              tag.c_str(), threshold, (long long)json["mechanisms"].get<std::int64_t>(),
+              (long long)d.mechanisms, (long long)json["H"].get<std::int64_t>(),
+              (long long)json["K1_negative_pivots"].get<std::int64_t>(), (long long)d.k1_negative);
+  if (!json["moduli_valid"].get<bool>())
+    return;
   EXPECT_NEAR(json["constitutive"]["bulk_modulus"].get<double>(), d.bulk_k1, 1e-8 * d.bulk_k1);
   EXPECT_NEAR(json["bulk_modulus"].get<double>(), d.bulk, 1e-8 * d.bulk);
   std::printf("[ stiffness ] %s: B = %.10g (dense %.10g), B1 = %.10g (dense %.10g)\n", tag.c_str(),
-              json["bulk_modulus"].get<double>(), d.bulk, json["constitutive"]["bulk_modulus"].get<double>(), d.bulk_k1);
+              json["bulk_modulus"].get<double>(), d.bulk,
+              json["constitutive"]["bulk_modulus"].get<double>(), d.bulk_k1);
 }
 
 void compare_with_dense(const std::string& tag, double mu) {
@@ -252,7 +289,7 @@ void compare_with_dense(const std::string& tag, double mu) {
   EXPECT_TRUE(j["positive_definite"].get<bool>());
   EXPECT_LT(j["virtual_work_residual"].get<double>(), 1e-3);
   if (mu > 0) {
-    EXPECT_EQ(j["divalent_mechanisms"], 1);  // the case this deck is chosen for
+    EXPECT_EQ(j["divalent_mechanisms"], 1); // the case this deck is chosen for
   }
   // A threshold of 0.3 a^2 P (0.2 without friction) drops the weak contacts: the backbone
   // left is floppy, and the unexpected mechanisms are counted by SLEPc (this tests that path
@@ -263,15 +300,20 @@ void compare_with_dense(const std::string& tag, double mu) {
   EXPECT_GT(floppy["other_mechanisms"].get<std::int64_t>(), 0);
   EXPECT_EQ(floppy["other_mechanism_grains"].size(), floppy["other_mechanisms"].get<std::size_t>());
   EXPECT_TRUE(floppy["bulk_modulus"].is_null());
-  if (rank_of() != 0) return;
+  if (rank_of() != 0)
+    return;
   for (const auto& [json, threshold] : {std::pair{&j, 1e-4}, std::pair{&floppy, floppy_threshold}})
     expect_matches_dense<3>(tag, file, *json, threshold);
 }
 
-}  // namespace
+} // namespace
 
-TEST(Stiffness, SmallFrictionalPackingMatchesDense) { compare_with_dense("stiffness_small_mu03", 0.3); }
-TEST(Stiffness, SmallFrictionlessPackingMatchesDense) { compare_with_dense("stiffness_small_mu0", 0.0); }
+TEST(Stiffness, SmallFrictionalPackingMatchesDense) {
+  compare_with_dense("stiffness_small_mu03", 0.3);
+}
+TEST(Stiffness, SmallFrictionlessPackingMatchesDense) {
+  compare_with_dense("stiffness_small_mu0", 0.0);
+}
 
 TEST(Stiffness, HertzFccCrystal) {
   const auto out = test::scratch_dir("stiffness_fcc_np" + std::to_string(size_of()));
@@ -313,8 +355,10 @@ TEST(Stiffness, HertzFccCrystal) {
   const double g1 = std::sqrt(2.0) * (kn + 3 * kt) / (4 * r);
   EXPECT_NEAR(j["constitutive"]["shear_modulus_diag"].get<double>(), g1, 1e-6 * g1);
   if (rank_of() == 0)
-    std::printf("[ stiffness ] FCC: B = %.10g Pa (analytic %.10g), B(1) = %.10g (analytic %.10g), P = %.8g\n",
-                j["bulk_modulus"].get<double>(), b, j["constitutive"]["bulk_modulus"].get<double>(), b1, p);
+    std::printf("[ stiffness ] FCC: B = %.10g Pa (analytic %.10g), B(1) = %.10g (analytic %.10g), "
+                "P = %.8g\n",
+                j["bulk_modulus"].get<double>(), b, j["constitutive"]["bulk_modulus"].get<double>(),
+                b1, p);
 }
 
 namespace {
@@ -339,11 +383,17 @@ density = 2500.0
 normal_law = "linear"
 normal_stiffness = 1.0e6
 tangential_stiffness_ratio = 1.0
-friction = )" + std::string(variant == "mu0" ? "0.0" : "0.5") + R"(
+friction = )" +
+         std::string(variant == "mu0" ? "0.0" : "0.5") + R"(
 damping = 0.8
 cohesion_force = 1.0
 cohesion_range = 2.0e-5
-)" + std::string(rolling ? "rolling_stiffness = 1.0e-4\nrolling_friction = 5.0e-6\nrolling_damping = 0.8\n" : "") + R"(
+)" +
+         std::string(
+             rolling
+                 ? "rolling_stiffness = 1.0e-4\nrolling_friction = 5.0e-6\nrolling_damping = 0.8\n"
+                 : "") +
+         R"(
 [output]
 log_every = 1000000
 
@@ -371,7 +421,7 @@ nlohmann::json cohesive_case(const std::string& variant, std::filesystem::path* 
   return j;
 }
 
-}  // namespace
+} // namespace
 
 TEST(Stiffness, CohesiveRollingPackingMatchesDense) {
   // [GRC] App. A: with rolling resistance the equilibrated packing at P* = 0.01 is rigid and
@@ -383,8 +433,9 @@ TEST(Stiffness, CohesiveRollingPackingMatchesDense) {
   EXPECT_TRUE(j["positive_definite"].get<bool>());
   EXPECT_EQ(j["mechanisms"], 2);
   EXPECT_EQ(j["G_rows"].get<std::int64_t>(), 3 * j["backbone_contacts"].get<std::int64_t>());
-  EXPECT_LT(j["virtual_work_residual"].get<double>(), 2e-2);  // criteria 1e-3 F0 per grain
-  if (rank_of() == 0) expect_matches_dense<2>("cohesive rr", file, j, 1e-4);
+  EXPECT_LT(j["virtual_work_residual"].get<double>(), 2e-2); // criteria 1e-3 F0 per grain
+  if (rank_of() == 0)
+    expect_matches_dense<2>("cohesive rr", file, j, 1e-4);
 }
 
 TEST(Stiffness, CohesiveDistantPairsMatchDense) {
@@ -397,7 +448,8 @@ TEST(Stiffness, CohesiveDistantPairsMatchDense) {
   EXPECT_GT(j["K1_negative_pivots"].get<std::int64_t>(), 0);
   EXPECT_FALSE(j["positive_definite"].get<bool>());
   EXPECT_TRUE(j["bulk_modulus"].is_null());
-  if (rank_of() == 0) expect_matches_dense<2>("cohesive mid", file, j, 1e-4);
+  if (rank_of() == 0)
+    expect_matches_dense<2>("cohesive mid", file, j, 1e-4);
 }
 
 TEST(Stiffness, CohesiveWithoutRollingMatchesDense) {
@@ -409,10 +461,13 @@ TEST(Stiffness, CohesiveWithoutRollingMatchesDense) {
     const auto j = cohesive_case(variant, &file);
     EXPECT_EQ(j["H_relation"], variant == "mu0" ? "GRC eq. 22" : "GRC eq. 19");
     const auto rows_per = variant == "mu0" ? 1 : 2;
-    EXPECT_EQ(j["G_rows"].get<std::int64_t>(), rows_per * j["backbone_contacts"].get<std::int64_t>());
+    EXPECT_EQ(j["G_rows"].get<std::int64_t>(),
+              rows_per * j["backbone_contacts"].get<std::int64_t>());
     EXPECT_GT(j["other_mechanisms"].get<std::int64_t>(), 0);
-    for (const auto& m : j["other_mechanism_grains"]) EXPECT_EQ(m.size(), 1u) << variant;
-    if (rank_of() == 0) expect_matches_dense<2>("cohesive " + variant, file, j, 1e-4);
+    for (const auto& m : j["other_mechanism_grains"])
+      EXPECT_EQ(m.size(), 1u) << variant;
+    if (rank_of() == 0)
+      expect_matches_dense<2>("cohesive " + variant, file, j, 1e-4);
   }
 }
 
@@ -484,7 +539,8 @@ tolerance_kinetic = 1e-12
       const Eigen::Matrix2d proj = Eigen::Matrix2d::Identity() - n * n.transpose();
       for (int a = 0; a < 2; ++a)
         for (int bb = 0; bb < 2; ++bb)
-          c(a, bb) += kn * n[a] * r[a] * n[bb] * r[bb] + kt * (proj.col(a) * r[a]).dot(proj.col(bb) * r[bb]);
+          c(a, bb) += kn * n[a] * r[a] * n[bb] * r[bb] +
+                      kt * (proj.col(a) * r[a]).dot(proj.col(bb) * r[bb]);
     }
     MPI_Allreduce(MPI_IN_PLACE, c.data(), 4, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
     c /= v.system.cell.volume();
@@ -497,10 +553,12 @@ tolerance_kinetic = 1e-12
   // With K(2) and the stress term: the self-stress is ~1e-4 F0, N/r ~ 1e-4 K_N.
   EXPECT_NEAR(j["bulk_modulus"].get<double>(), b, 1e-4 * b);
   if (rank_of() == 0)
-    std::printf("[ stiffness ] cohesive hex: B1 = %.10g (affine %.10g, sqrt3/2 K_N = %.10g), G1 = %.10g (affine "
+    std::printf("[ stiffness ] cohesive hex: B1 = %.10g (affine %.10g, sqrt3/2 K_N = %.10g), G1 = "
+                "%.10g (affine "
                 "%.10g, sqrt3/4 (K_N + K_T) = %.10g), B = %.10g\n",
                 j["constitutive"]["bulk_modulus"].get<double>(), b_affine, b,
-                j["constitutive"]["shear_modulus_diag"].get<double>(), g_affine, g, j["bulk_modulus"].get<double>());
+                j["constitutive"]["shear_modulus_diag"].get<double>(), g_affine, g,
+                j["bulk_modulus"].get<double>());
 }
 
 // A file written before /parameters existed (docs/data/2d/seriesA_rr_P0.01.h5, cohesive, rolling
@@ -510,24 +568,27 @@ TEST(Stiffness, OldFilesReplayTheirDeckAsTheirParametersWould) {
   const auto old_file = test::source_dir() / "docs/data/2d/seriesA_rr_P0.01.h5";
   const FileMeta meta = read_file_meta(MPI_COMM_WORLD, old_file);
   ASSERT_FALSE(meta.parameters);
-  const StateParameters replayed = replayed_parameters(parse_deck(meta.deck_text, "deck"), meta.stage_index);
+  const StateParameters replayed =
+      replayed_parameters(parse_deck(meta.deck_text, "deck"), meta.stage_index);
   EXPECT_EQ(replayed.stress_target.stage, 4);
   EXPECT_EQ(replayed.stress_target.stress, std::vector<double>(2, 10.0));
   EXPECT_EQ(replayed.contact_law.cohesion_force, 1.0);
   EXPECT_GT(replayed.contact_law.rolling_stiffness, 0.0);
   Configuration<2> c = read_configuration<2>(MPI_COMM_WORLD, old_file);
   c.meta.parameters = replayed;
-  const auto with = test::scratch_dir("stiffness_old_file_np" + std::to_string(size_of())) / "with_parameters.h5";
+  const auto with =
+      test::scratch_dir("stiffness_old_file_np" + std::to_string(size_of())) / "with_parameters.h5";
   write_configuration<2>(MPI_COMM_WORLD, with, c);
   testing::internal::CaptureStderr();
   nlohmann::json a = run_stiffness(old_file), b = run_stiffness(with);
   const std::string said = testing::internal::GetCapturedStderr();
-  if (rank_of() == 0) {  // once, naming the file
+  if (rank_of() == 0) { // once, naming the file
     EXPECT_NE(said.find(old_file.string() + " has no /parameters"), std::string::npos) << said;
   }
   EXPECT_EQ(said.find("with_parameters.h5"), std::string::npos) << said;
   EXPECT_EQ(a["prescribed_stress_source"], "deck stage 4");
-  for (auto* j : {&a, &b}) j->erase("file"), j->erase("timings_seconds");
+  for (auto* j : {&a, &b})
+    j->erase("file"), j->erase("timings_seconds");
   if (size_of() == 1) {
     EXPECT_EQ(a, b);
     return;

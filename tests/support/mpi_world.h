@@ -15,4 +15,4 @@ inline int world_size() {
   return s;
 }
 
-}  // namespace granpack::test
+} // namespace granpack::test

@@ -9,4 +9,4 @@ std::filesystem::path source_dir();
 /// A fresh directory under the build tree for this test's files; `tag` keeps tests apart.
 /// Not collective: with MPI, pass a name that is the same on all ranks and create it on one.
 std::filesystem::path scratch_dir(const std::string& tag);
-}  // namespace granpack::test
+} // namespace granpack::test

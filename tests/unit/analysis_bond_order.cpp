@@ -25,7 +25,8 @@ std::vector<Vec<3>> fcc(int k, Vec<3>& lengths) {
   for (int x = 0; x < k; ++x)
     for (int y = 0; y < k; ++y)
       for (int z = 0; z < k; ++z)
-        for (const auto& b : basis) p.push_back(side * Vec<3>(x + b[0], y + b[1], z + b[2]));
+        for (const auto& b : basis)
+          p.push_back(side * Vec<3>(x + b[0], y + b[1], z + b[2]));
   lengths = Vec<3>::Constant(k * side);
   return p;
 }
@@ -40,7 +41,8 @@ std::vector<Vec<3>> hcp(int nx, int ny, int nz, Vec<3>& lengths) {
   for (int x = 0; x < nx; ++x)
     for (int y = 0; y < ny; ++y)
       for (int z = 0; z < nz; ++z)
-        for (const auto& b : basis) p.push_back(Vec<3>(x + b[0], y * s3 + b[1], z * c + b[2]));
+        for (const auto& b : basis)
+          p.push_back(Vec<3>(x + b[0], y * s3 + b[1], z * c + b[2]));
   lengths = Vec<3>(nx, ny * s3, nz * c);
   return p;
 }
@@ -50,7 +52,8 @@ std::vector<Vec<3>> gas(std::size_t n, double side, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, side);
   std::vector<Vec<3>> p(n);
-  for (auto& r : p) r = Vec<3>(u(rng), u(rng), u(rng));
+  for (auto& r : p)
+    r = Vec<3>(u(rng), u(rng), u(rng));
   return p;
 }
 
@@ -63,20 +66,20 @@ void expect_complex_near(std::complex<double> a, std::complex<double> b, double 
   EXPECT_NEAR(a.imag(), b.imag(), tol);
 }
 
-}  // namespace
+} // namespace
 
 TEST(BondOrderHarmonics, ClosedFormsWithCondonShortleyPhase) {
   const double th = 0.7, ph = 2.1;
   const std::complex<double> e1 = std::polar(1.0, ph), e2 = std::polar(1.0, 2 * ph);
-  const Vec<3> n = 3.5 * direction(th, ph);  // the length must not matter
+  const Vec<3> n = 3.5 * direction(th, ph); // the length must not matter
   auto y0 = spherical_harmonics(0, n);
   ASSERT_EQ(y0.size(), 1u);
   expect_complex_near(y0[0], 1 / std::sqrt(4 * kPi), 1e-14);
-  auto y1 = spherical_harmonics(1, n);  // index m + 1
+  auto y1 = spherical_harmonics(1, n); // index m + 1
   expect_complex_near(y1[1], std::sqrt(3 / (4 * kPi)) * std::cos(th), 1e-14);
   expect_complex_near(y1[2], -std::sqrt(3 / (8 * kPi)) * std::sin(th) * e1, 1e-14);
   expect_complex_near(y1[0], std::sqrt(3 / (8 * kPi)) * std::sin(th) * std::conj(e1), 1e-14);
-  auto y2 = spherical_harmonics(2, n);  // index m + 2
+  auto y2 = spherical_harmonics(2, n); // index m + 2
   const double s = std::sin(th), c = std::cos(th);
   expect_complex_near(y2[4], 0.25 * std::sqrt(15 / (2 * kPi)) * s * s * e2, 1e-14);
   expect_complex_near(y2[1], 0.5 * std::sqrt(15 / (2 * kPi)) * s * c * std::conj(e1), 1e-14);
@@ -93,7 +96,8 @@ TEST(BondOrderHarmonics, AdditionTheorem) {
     for (int l = 0; l <= 10; ++l) {
       auto ya = spherical_harmonics(l, a), yb = spherical_harmonics(l, b);
       std::complex<double> s = 0;
-      for (std::size_t k = 0; k < ya.size(); ++k) s += ya[k] * std::conj(yb[k]);
+      for (std::size_t k = 0; k < ya.size(); ++k)
+        s += ya[k] * std::conj(yb[k]);
       const double expect = (2 * l + 1) / (4 * kPi) * std::legendre(static_cast<unsigned>(l), cg);
       EXPECT_NEAR(s.real(), expect, 1e-12) << "l = " << l;
       EXPECT_NEAR(s.imag(), 0.0, 1e-12) << "l = " << l;
@@ -111,7 +115,7 @@ TEST(BondOrderHarmonics, AdditionTheorem) {
 
 TEST(BondOrder, PerfectFcc) {
   Vec<3> L;
-  const auto p = fcc(3, L);  // 108 grains, L = 4.24 > 2 d_c
+  const auto p = fcc(3, L); // 108 grains, L = 4.24 > 2 d_c
   for (const double dc : {1.35, 1.40}) {
     SCOPED_TRACE("d_c = " + std::to_string(dc));
     const auto r = bond_order_periodic(p, L, {dc, 0.5, 7});
@@ -145,7 +149,7 @@ TEST(BondOrder, PerfectFcc) {
 
 TEST(BondOrder, PerfectHcp) {
   Vec<3> L;
-  const auto p = hcp(4, 3, 3, L);  // 144 grains, L = (4, 5.20, 4.90)
+  const auto p = hcp(4, 3, 3, L); // 144 grains, L = (4, 5.20, 4.90)
   for (const double dc : {1.35, 1.40}) {
     SCOPED_TRACE("d_c = " + std::to_string(dc));
     const auto r = bond_order_periodic(p, L, {dc, 0.5, 7});
@@ -153,7 +157,7 @@ TEST(BondOrder, PerfectHcp) {
       EXPECT_EQ(g.n_bonds, 12);
       EXPECT_NEAR(g.q4, 0.097, 1e-3);
       EXPECT_NEAR(g.q6, 0.485, 1e-3);
-      EXPECT_NEAR(g.q4, 7.0 / 72.0, 1e-12);  // Q4(hcp) = 7/72 exactly
+      EXPECT_NEAR(g.q4, 7.0 / 72.0, 1e-12); // Q4(hcp) = 7/72 exactly
       EXPECT_EQ(g.n_crystalline_bonds, 12);
       EXPECT_TRUE(g.crystalline);
       const auto w = windows_containing(g.q4, g.q6, order_windows());
@@ -179,10 +183,10 @@ TEST(BondOrder, RotationalInvariance) {
   std::mt19937_64 rng(2024);
   std::normal_distribution<double> g;
   for (int trial = 0; trial < 10; ++trial) {
-    const Eigen::Quaterniond rot =
-        Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized();
+    const Eigen::Quaterniond rot = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized();
     std::vector<Vec<3>> turned;
-    for (const auto& b : bonds) turned.push_back(rot * b);
+    for (const auto& b : bonds)
+      turned.push_back(rot * b);
     for (int l = 1; l <= 10; ++l) {
       const auto a = local_q(std::span<const Vec<3>>(bonds), l);
       const auto b = local_q(std::span<const Vec<3>>(turned), l);
@@ -192,7 +196,8 @@ TEST(BondOrder, RotationalInvariance) {
     const auto a6 = local_q(std::span<const Vec<3>>(bonds), 6);
     const auto b6 = local_q(std::span<const Vec<3>>(turned), 6);
     double diff = 0;
-    for (std::size_t k = 0; k < a6.q.size(); ++k) diff += std::abs(a6.q[k] - b6.q[k]);
+    for (std::size_t k = 0; k < a6.q.size(); ++k)
+      diff += std::abs(a6.q[k] - b6.q[k]);
     EXPECT_GT(diff, 1e-3);
     // ... and so the correlation of eq. (34) between the two copies (rotated crystals).
     EXPECT_LT(bond_correlation(a6.normalized(), b6.normalized()), 1.0 - 1e-6);
@@ -205,7 +210,8 @@ TEST(BondOrder, LocalQDoesNotDependOnBondOrder) {
   for (const auto& h : hoods) {
     const auto ref = local_q(h, 6);
     std::vector<std::size_t> perm(h.bonds.size());
-    for (std::size_t k = 0; k < perm.size(); ++k) perm[k] = k;
+    for (std::size_t k = 0; k < perm.size(); ++k)
+      perm[k] = k;
     std::shuffle(perm.begin(), perm.end(), rng);
     BondNeighborhood s{h.id, {}, {}};
     for (auto k : perm) {
@@ -213,7 +219,7 @@ TEST(BondOrder, LocalQDoesNotDependOnBondOrder) {
       s.neighbor_ids.push_back(h.neighbor_ids[k]);
     }
     const auto shuffled = local_q(s, 6);
-    ASSERT_EQ(shuffled.q, ref.q);  // bitwise: summed in ascending neighbour id
+    ASSERT_EQ(shuffled.q, ref.q); // bitwise: summed in ascending neighbour id
   }
 }
 
@@ -225,7 +231,7 @@ TEST(BondOrder, RandomGasHasNoOrder) {
   const double dc = 1.4, rho = 13.0 / (4.0 * kPi / 3.0 * dc * dc * dc);
   const double side = std::cbrt(static_cast<double>(n) / rho);
   const auto r = bond_order_periodic(gas(n, side, 42), Vec<3>::Constant(side), {dc, 0.5, 7});
-  EXPECT_NEAR(r.tally.z(), 13.0, 0.3);  // Poisson: sd of the mean 13^(1/2)/4000^(1/2) ~ 0.06
+  EXPECT_NEAR(r.tally.z(), 13.0, 0.3); // Poisson: sd of the mean 13^(1/2)/4000^(1/2) ~ 0.06
   // Global Q6. For N_B independent isotropic bond directions, E|sum_b Y_6m|^2 = N_B/(4 pi)
   // for each m (int |Y|^2 dOmega = 1), so E[Q6^2] = 4 pi/13 * 13/(4 pi N_B) = 1/N_B, and
   // N_B Q6^2 is close to chi^2_13 / 13 (13 real Gaussian components, Y_6,-m = (-1)^m Y_6m^*).
@@ -254,7 +260,7 @@ TEST(BondOrder, RandomGasHasNoOrder) {
   // p = 0.09, P(Bin(13, 0.09) >= 7) = 5e-5; the correlations raise it (measured 0 to 0.0015).
   // Bound 0.01 (a crystal gives 1, [AR]'s RCP x_cr = 0.08).
   EXPECT_LT(r.tally.x_cr(), 0.01);
-  EXPECT_LT(r.clusters.mass_average_size, 5.0);  // a few isolated grains at most
+  EXPECT_LT(r.clusters.mass_average_size, 5.0); // a few isolated grains at most
 }
 
 TEST(BondOrder, LoneBondIsTriviallyCrystalline) {
@@ -293,42 +299,48 @@ TEST(BondOrder, StagedTwoRankRecipeMatchesSerial) {
 
   std::vector<QBarTable> tables(2, QBarTable(6));
   std::vector<std::vector<LocalBondOrder>> q6(2);
-  for (std::size_t i = 0; i < p.size(); ++i) {  // stage 1 (owned grains)
+  for (std::size_t i = 0; i < p.size(); ++i) { // stage 1 (owned grains)
     auto q = local_q(hoods[i], 6);
     tables[static_cast<std::size_t>(rank_of(i))].insert(hoods[i].id, q.normalized());
   }
-  for (int rk = 0; rk < 2; ++rk) {  // halo: the other rank's qbar for ghosts within d_c
+  for (int rk = 0; rk < 2; ++rk) { // halo: the other rank's qbar for ghosts within d_c
     const auto& other = tables[static_cast<std::size_t>(1 - rk)];
     auto& mine = tables[static_cast<std::size_t>(rk)];
     const std::size_t n13 = 13;
     for (std::size_t k = 0; k < other.ids().size(); ++k) {
       const GlobalId id = other.ids()[k];
-      bool needed = false;  // is it a neighbour of one of my grains?
+      bool needed = false; // is it a neighbour of one of my grains?
       for (GlobalId j : hoods[static_cast<std::size_t>(id)].neighbor_ids)
         needed = needed || rank_of(static_cast<std::size_t>(j)) == rk;
-      if (!needed) continue;
+      if (!needed)
+        continue;
       std::span<const std::complex<double>> v(other.values().data() + k * n13, n13);
-      if (mine.find(id).empty()) mine.insert(id, v);
+      if (mine.find(id).empty())
+        mine.insert(id, v);
     }
   }
   std::vector<double> sums;
   std::vector<GlobalId> cryst;
   std::vector<std::pair<GlobalId, GlobalId>> cbonds;
-  for (int rk = 0; rk < 2; ++rk) {  // stages 2-3 per rank
+  for (int rk = 0; rk < 2; ++rk) { // stages 2-3 per rank
     BondOrderTally t;
     for (std::size_t i = 0; i < p.size(); ++i) {
-      if (rank_of(i) != rk) continue;
+      if (rank_of(i) != rk)
+        continue;
       const auto cn = crystalline_neighbors(hoods[i], tables[static_cast<std::size_t>(rk)]);
       t.add(local_q(hoods[i], 6), static_cast<int>(cn.size()));
       EXPECT_EQ(static_cast<int>(cn.size()), serial.grains[i].n_crystalline_bonds);
       if (cn.size() >= 7) {
         cryst.push_back(hoods[i].id);
-        for (GlobalId j : cn) cbonds.emplace_back(hoods[i].id, j);  // both directions: fine
+        for (GlobalId j : cn)
+          cbonds.emplace_back(hoods[i].id, j); // both directions: fine
       }
     }
     const auto packed = t.packed();
-    if (sums.empty()) sums.assign(packed.size(), 0.0);
-    for (std::size_t k = 0; k < packed.size(); ++k) sums[k] += packed[k];  // "MPI_SUM"
+    if (sums.empty())
+      sums.assign(packed.size(), 0.0);
+    for (std::size_t k = 0; k < packed.size(); ++k)
+      sums[k] += packed[k]; // "MPI_SUM"
   }
   const auto total = BondOrderTally::unpacked(sums);
   EXPECT_EQ(total.n_grains, serial.tally.n_grains);
@@ -338,7 +350,7 @@ TEST(BondOrder, StagedTwoRankRecipeMatchesSerial) {
   EXPECT_NEAR(total.q6_global(), serial.tally.q6_global(), 1e-12);
   EXPECT_NEAR(total.q6_loc(), serial.tally.q6_loc(), 1e-12);
   EXPECT_NEAR(total.q6_loc_cr(), serial.tally.q6_loc_cr(), 1e-12);
-  std::shuffle(cryst.begin(), cryst.end(), std::mt19937_64(1));  // gather order is arbitrary
+  std::shuffle(cryst.begin(), cryst.end(), std::mt19937_64(1)); // gather order is arbitrary
   const auto clusters = crystalline_clusters(cryst, cbonds);
   EXPECT_EQ(clusters.sizes, serial.clusters.sizes);
   EXPECT_DOUBLE_EQ(clusters.mass_average_size, serial.clusters.mass_average_size);
@@ -356,8 +368,8 @@ TEST(BondOrder, ClustersByUnionFind) {
   // isolated. Clusters {1,2,3}, {4,5}, {6}, {7}, {10}: sum s = 8, sum s^2 = 9+4+1+1+1 = 16,
   // <n_cr> = 2.
   const std::vector<GlobalId> grains = {10, 7, 3, 1, 6, 2, 5, 4};
-  const std::vector<std::pair<GlobalId, GlobalId>> bonds = {
-      {1, 2}, {2, 3}, {3, 1}, {2, 1}, {4, 5}, {5, 4}, {6, 99}, {7, 7}};
+  const std::vector<std::pair<GlobalId, GlobalId>> bonds = {{1, 2}, {2, 3}, {3, 1},  {2, 1},
+                                                            {4, 5}, {5, 4}, {6, 99}, {7, 7}};
   const auto c = crystalline_clusters(grains, bonds);
   EXPECT_EQ(c.sizes, (std::vector<std::int64_t>{3, 2, 1, 1, 1}));
   EXPECT_DOUBLE_EQ(c.mass_average_size, 2.0);
@@ -366,8 +378,10 @@ TEST(BondOrder, ClustersByUnionFind) {
   // One chain 0-1-...-9 plus 10 singletons: (100 + 10) / 20 = 5.5.
   std::vector<GlobalId> g2;
   std::vector<std::pair<GlobalId, GlobalId>> b2;
-  for (GlobalId i = 0; i < 20; ++i) g2.push_back(i);
-  for (GlobalId i = 0; i < 9; ++i) b2.emplace_back(i, i + 1);
+  for (GlobalId i = 0; i < 20; ++i)
+    g2.push_back(i);
+  for (GlobalId i = 0; i < 9; ++i)
+    b2.emplace_back(i, i + 1);
   EXPECT_DOUBLE_EQ(crystalline_clusters(g2, b2).mass_average_size, 5.5);
   EXPECT_EQ(crystalline_clusters({}, {}).mass_average_size, 0.0);
   EXPECT_THROW(crystalline_clusters({1, 2, 1}, {}), Error);
@@ -376,11 +390,13 @@ TEST(BondOrder, ClustersByUnionFind) {
 TEST(BondOrder, WindowsOfTablesVIIandVIII) {
   const auto all = order_windows();
   ASSERT_EQ(all.size(), 14u);
-  for (const auto& w : all) EXPECT_EQ(w.half_width, 0.05);
+  for (const auto& w : all)
+    EXPECT_EQ(w.half_width, 0.05);
   // fcc and hcp centres ([AR] app. D) fall in their own windows only.
   auto kinds = [&](double q4, double q6, std::span<const OrderWindow> ws) {
     std::vector<std::string> k;
-    for (auto i : windows_containing(q4, q6, ws)) k.emplace_back(to_string(ws[i].kind));
+    for (auto i : windows_containing(q4, q6, ws))
+      k.emplace_back(to_string(ws[i].kind));
     return k;
   };
   EXPECT_EQ(kinds(0.191, 0.574, all), (std::vector<std::string>{"fcc"}));

@@ -30,7 +30,8 @@ TEST(DensityCorrelation, RasterisedAreaIsTheDiskArea) {
   const int nx = 2000, ny = 1600;
   const auto chi = rasterize_disks(d, L, nx, ny);
   double nodes = 0;
-  for (auto c : chi) nodes += c;
+  for (auto c : chi)
+    nodes += c;
   const double area = nodes * (L[0] / nx) * (L[1] / ny);
   EXPECT_NEAR(area, std::numbers::pi * (1.3 * 1.3 + 0.7 * 0.7), 2e-3);
 }
@@ -46,7 +47,8 @@ TEST(DensityCorrelation, SingleDiskGivesItsFormFactor) {
   // up to its variation across the bin; compare where it is flat (kR < 1).
   for (std::size_t b = 0; b < c.k.size(); ++b) {
     const double k = c.k[b];
-    if (k * R > 1.0) continue;
+    if (k * R > 1.0)
+      continue;
     const double f = 2 * std::numbers::pi * R * std::cyl_bessel_j(1.0, k * R) / k;
     EXPECT_NEAR(c.I[b], f * f / (L[0] * L[1]), 0.02 * f * f / (L[0] * L[1])) << "k = " << k;
   }
@@ -56,7 +58,7 @@ TEST(DensityCorrelation, ClosedFormMatchesHypergeometricSeriesAndHankelIntegral)
   for (double d : {1.5, 1.93}) {
     const double xi = 6.0;
     // Paper's form (eq. 28 without Cst, amplitude Phi l^(2-d) = 1): 2 pi Gamma(d) xi^d 2F1(...).
-    for (double k : {0.01, 0.05, 0.1}) {  // xi k < 1: the 2F1 series converges
+    for (double k : {0.01, 0.05, 0.1}) { // xi k < 1: the 2F1 series converges
       const double z = -xi * xi * k * k, a = (1 + d) / 2, b = d / 2;
       double term = 1, sum = 1;
       for (int n = 0; n < 400; ++n) {
@@ -78,7 +80,7 @@ TEST(DensityCorrelation, ClosedFormMatchesHypergeometricSeriesAndHankelIntegral)
       EXPECT_NEAR(fractal_blob_intensity(k, d, xi, 1.0), hankel, 2e-3 * std::abs(hankel) + 1e-6);
     }
   }
-  EXPECT_NEAR(legendre_p(2.0, 0.3), 0.5 * (3 * 0.09 - 1), 1e-14);  // P_2 is a polynomial
+  EXPECT_NEAR(legendre_p(2.0, 0.3), 0.5 * (3 * 0.09 - 1), 1e-14); // P_2 is a polynomial
 }
 
 TEST(DensityCorrelation, FitRecoversFractalDimensionAndBlobSize) {
@@ -119,7 +121,7 @@ TEST(DensityCorrelation, FitWithoutCutOffIsUndetermined) {
 TEST(DensityCorrelation, RegimeConditionUsesTheErrors) {
   FractalFit f;
   f.determined = true, f.points = 30, f.d_f = 1.5, f.d_f_error = 0.05, f.xi = 53, f.xi_error = 120;
-  EXPECT_EQ(fractal_regime_failure(f, 1.0, 200.0), "xi - 2 sigma_xi <= a");  // 53 +- 120: no regime
+  EXPECT_EQ(fractal_regime_failure(f, 1.0, 200.0), "xi - 2 sigma_xi <= a"); // 53 +- 120: no regime
   f.xi_error = 5;
   EXPECT_EQ(fractal_regime_failure(f, 1.0, 200.0), "");
   EXPECT_EQ(fractal_regime_failure(f, 1.0, 120.0), "xi + 2 sigma_xi >= L/2");
@@ -148,7 +150,8 @@ TEST(DensityCorrelation, RealSpaceFitRecoversEq27) {
   EXPECT_NEAR(f.lo, 1.0, 1e-12);
   EXPECT_NEAR(f.hi, 40.0, 1e-12);
   // Without a cut-off (xi -> infinity) the fit says so instead of returning a number.
-  for (std::size_t i = 0; i < c.r.size(); ++i) c.C[i] = phi * std::pow(c.r[i] / l, d - 2) * std::exp(c.r[i] / 500);
+  for (std::size_t i = 0; i < c.r.size(); ++i)
+    c.C[i] = phi * std::pow(c.r[i] / l, d - 2) * std::exp(c.r[i] / 500);
   const FractalFit g = fit_fractal_real_space(c, 1.0, 40.0, phi, 100.0);
   EXPECT_FALSE(g.determined);
   EXPECT_FALSE(g.reason.empty());
@@ -160,35 +163,42 @@ TEST(DensityCorrelation, CorrelationOfOneDiskIsTheOverlapArea) {
   const int n = 1000;
   const auto chi = one_disk(Vec<2>(3.1, 17.6), R, n);
   double solid = 0;
-  for (auto x : chi) solid += x;
+  for (auto x : chi)
+    solid += x;
   const double phi = solid / double(chi.size());
   const DensitySpectra s = density_spectra(chi, L, n, n, 5.0, 20, 10.0, 0.1);
   ASSERT_EQ(s.correlation.r.size(), 100u);
   for (std::size_t b = 0; b < s.correlation.r.size(); ++b) {
     const double r = s.correlation.r[b];
     // Two disks of radius R at distance r overlap on 2 R^2 acos(r/2R) - (r/2) sqrt(4R^2 - r^2).
-    const double overlap = r < 2 * R ? 2 * R * R * std::acos(r / (2 * R)) - 0.5 * r * std::sqrt(4 * R * R - r * r) : 0.0;
+    const double overlap =
+        r < 2 * R ? 2 * R * R * std::acos(r / (2 * R)) - 0.5 * r * std::sqrt(4 * R * R - r * r)
+                  : 0.0;
     EXPECT_NEAR(s.correlation.C[b], overlap / (L[0] * L[1]) - phi * phi, 1e-3 * phi) << "r = " << r;
   }
   // The scattering curve is the one scattering_function gives.
   const ScatteringCurve c = scattering_function(chi, L, n, n, 5.0, 20);
   ASSERT_EQ(c.I.size(), s.scattering.I.size());
-  for (std::size_t b = 0; b < c.I.size(); ++b) EXPECT_EQ(c.I[b], s.scattering.I[b]);
+  for (std::size_t b = 0; b < c.I.size(); ++b)
+    EXPECT_EQ(c.I[b], s.scattering.I[b]);
 }
 
 TEST(DensityCorrelation, HolesAndTheirEquivalentRadii) {
   // Solid everywhere except a square hole of side s (radius of gyration: 2 <r^2> = s^2 / 3)
   // and a channel that wraps along y.
   const int nx = 400, ny = 300;
-  const Vec<2> L(4.0, 3.0);  // spacing 0.01
+  const Vec<2> L(4.0, 3.0); // spacing 0.01
   std::vector<std::uint8_t> chi(std::size_t(nx) * ny, 1);
   for (int i = 100; i < 200; ++i)
-    for (int j = 50; j < 150; ++j) chi[std::size_t(i) * ny + j] = 0;
+    for (int j = 50; j < 150; ++j)
+      chi[std::size_t(i) * ny + j] = 0;
   for (int i = 300; i < 310; ++i)
-    for (int j = 0; j < ny; ++j) chi[std::size_t(i) * ny + j] = 0;
+    for (int j = 0; j < ny; ++j)
+      chi[std::size_t(i) * ny + j] = 0;
   // A second square hole split by the x boundary (columns 395..399 and 0..4: side 10 nodes).
   for (int i : {395, 396, 397, 398, 399, 0, 1, 2, 3, 4})
-    for (int j = 200; j < 210; ++j) chi[std::size_t(i) * ny + j] = 0;
+    for (int j = 200; j < 210; ++j)
+      chi[std::size_t(i) * ny + j] = 0;
   const HoleStatistics h = hole_statistics(chi, L, nx, ny);
   EXPECT_EQ(h.holes, 3);
   EXPECT_EQ(h.wrapping_holes, 1);
@@ -202,5 +212,5 @@ TEST(DensityCorrelation, HolesAndTheirEquivalentRadii) {
               (1e4 * square(100, 0.01) + 100 * square(10, 0.01)) / (1e4 + 100), 1e-12);
 }
 
-}  // namespace
-}  // namespace granpack
+} // namespace
+} // namespace granpack

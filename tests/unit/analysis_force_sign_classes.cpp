@@ -12,7 +12,7 @@ namespace {
 TEST(ForceSignClasses, ToleranceSeparatesTheClasses) {
   EXPECT_EQ(force_sign(2e-4, 1e-4), ForceSign::repulsive);
   EXPECT_EQ(force_sign(-2e-4, 1e-4), ForceSign::attractive);
-  EXPECT_EQ(force_sign(1e-4, 1e-4), ForceSign::vanishing);  // |N| <= t is vanishing, as z0
+  EXPECT_EQ(force_sign(1e-4, 1e-4), ForceSign::vanishing); // |N| <= t is vanishing, as z0
   EXPECT_EQ(force_sign(-1e-4, 1e-4), ForceSign::vanishing);
 }
 
@@ -29,11 +29,11 @@ TEST(ForceSignClasses, MeansPerClass) {
   EXPECT_DOUBLE_EQ(r.rms_tangential, std::sqrt(1.25));
   const ForceSignMeans a = force_sign_means(s, ForceSign::attractive);
   EXPECT_EQ(a.count, 1);
-  EXPECT_DOUBLE_EQ(a.mean_normal, 2.0);  // |N|: table VI gives N- as a magnitude
+  EXPECT_DOUBLE_EQ(a.mean_normal, 2.0); // |N|: table VI gives N- as a magnitude
   const ForceSignMeans v = force_sign_means(s, ForceSign::vanishing);
   EXPECT_EQ(v.count, 0);
   EXPECT_TRUE(std::isnan(v.mean_normal));
 }
 
-}  // namespace
-}  // namespace granpack
+} // namespace
+} // namespace granpack

@@ -30,14 +30,15 @@ TEST(Percolation, RowsWrapFirstThenTheWholeNetwork) {
   const auto r = percolation_threshold<2>(square(6, 2.0, 1.0), 36);
   EXPECT_EQ(r.threshold_any, 2.0);
   EXPECT_EQ(r.threshold_all, 1.0);
-  EXPECT_EQ(r.edges_at_any, 6);  // the first row closes with its 6th bond (ties sorted by id)
+  EXPECT_EQ(r.edges_at_any, 6); // the first row closes with its 6th bond (ties sorted by id)
 }
 
 TEST(Percolation, OneWeakBondPerRowDelaysWrapping) {
   auto e = square(5, 3.0, 0.5);
   // Weaken one horizontal bond of every row: no row wraps before F = 1.5.
   for (auto& b : e)
-    if (b.shift[0] == 1) b.force = 1.5;
+    if (b.shift[0] == 1)
+      b.force = 1.5;
   const auto r = percolation_threshold<2>(e, 25);
   EXPECT_EQ(r.threshold_any, 1.5);
   EXPECT_EQ(r.threshold_all, 0.5);
@@ -55,12 +56,13 @@ TEST(Percolation, ClosedLoopsInsideTheCellDoNotWrap) {
   e.push_back({5, 0, {0, 0, 0}, 0.1});
   const auto w = percolation_threshold<3>(e, 6);
   EXPECT_EQ(w.threshold_any, 0.1);
-  EXPECT_EQ(w.threshold_all, 0.0);  // only x is spanned
+  EXPECT_EQ(w.threshold_all, 0.0); // only x is spanned
 }
 
 TEST(Percolation, ResultDoesNotDependOnEdgeOrder) {
   auto e = square(7, 1.0, 1.0);
-  for (std::size_t k = 0; k < e.size(); ++k) e[k].force = 1.0 + double((k * 37) % 11);
+  for (std::size_t k = 0; k < e.size(); ++k)
+    e[k].force = 1.0 + double((k * 37) % 11);
   const auto a = percolation_threshold<2>(e, 49);
   std::reverse(e.begin(), e.end());
   const auto b = percolation_threshold<2>(e, 49);
@@ -71,7 +73,8 @@ TEST(Percolation, ResultDoesNotDependOnEdgeOrder) {
 
 TEST(Histogram, CountsBinsAndTails) {
   Histogram h(-1.0, 1.0, 4);
-  for (double x : {-2.0, -1.0, -0.6, 0.0, 0.49, 0.5, 0.99, 1.0, 3.0}) h.add(x);
+  for (double x : {-2.0, -1.0, -0.6, 0.0, 0.49, 0.5, 0.99, 1.0, 3.0})
+    h.add(x);
   EXPECT_EQ(h.below, 1.0);
   EXPECT_EQ(h.above, 2.0);
   EXPECT_EQ(h.counts, (std::vector<double>{2, 0, 2, 2}));
@@ -94,8 +97,9 @@ TEST(Rumpf, EquationEighteenForUniformDiameters) {
   EXPECT_NEAR(rumpf_mean_force(P, z, phi, 0.75 * a, 7.0 / 12.0 * a * a),
               7.0 * std::numbers::pi * a / 9.0 * P / (z * phi), 1e-15);
   // Monodisperse spheres: [AR] eq. (22), <N> = pi a^2 P / (z Phi).
-  EXPECT_NEAR(rumpf_mean_force(P, 6.0, 0.637, a, a * a * a), std::numbers::pi * a * a * P / (6.0 * 0.637), 1e-15);
+  EXPECT_NEAR(rumpf_mean_force(P, 6.0, 0.637, a, a * a * a),
+              std::numbers::pi * a * a * P / (6.0 * 0.637), 1e-15);
 }
 
-}  // namespace
-}  // namespace granpack
+} // namespace
+} // namespace granpack

@@ -20,7 +20,8 @@ std::vector<Vec<3>> fcc(int c, double l) {
   for (int i = 0; i < c; ++i)
     for (int j = 0; j < c; ++j)
       for (int k = 0; k < c; ++k)
-        for (const auto& b : basis) x.push_back(Vec<3>(l * (i + b[0]), l * (j + b[1]), l * (k + b[2])));
+        for (const auto& b : basis)
+          x.push_back(Vec<3>(l * (i + b[0]), l * (j + b[1]), l * (k + b[2])));
   return x;
 }
 
@@ -29,11 +30,12 @@ TEST(TranslationalOrder, FccHasUnitPeaksAtTheReciprocalVectors) {
   const double l = 1.7;
   auto x = fcc(c, l);
   const Vec<3> L = Vec<3>::Constant(c * l);
-  EXPECT_NEAR(translational_order<3>(x, L, {c, c, c}), 1.0, 1e-12);         // (111)
-  EXPECT_NEAR(translational_order<3>(x, L, {2 * c, 0, 0}), 1.0, 1e-12);     // (200)
-  EXPECT_LT(translational_order<3>(x, L, {c, 0, 0}), 1e-12);               // (100): extinct in FCC
+  EXPECT_NEAR(translational_order<3>(x, L, {c, c, c}), 1.0, 1e-12);     // (111)
+  EXPECT_NEAR(translational_order<3>(x, L, {2 * c, 0, 0}), 1.0, 1e-12); // (200)
+  EXPECT_LT(translational_order<3>(x, L, {c, 0, 0}), 1e-12);            // (100): extinct in FCC
   // A rigid shift changes only the phase.
-  for (auto& p : x) p += Vec<3>(0.31, -0.2, 0.05);
+  for (auto& p : x)
+    p += Vec<3>(0.31, -0.2, 0.05);
   EXPECT_NEAR(translational_order<3>(x, L, {c, -c, c}), 1.0, 1e-12);
 }
 
@@ -45,7 +47,8 @@ TEST(TranslationalOrder, PeakSearchFindsTheFirstShellOfFcc) {
   const auto peaks = find_bragg_peaks<3>(x, L, 8, 0.5);
   ASSERT_EQ(peaks.m.size(), 4u);
   for (const auto& m : peaks.m)
-    for (int a = 0; a < 3; ++a) EXPECT_EQ(std::abs(m[a]), c);
+    for (int a = 0; a < 3; ++a)
+      EXPECT_EQ(std::abs(m[a]), c);
   EXPECT_NEAR(mean_translational_order<3>(x, L, peaks), 1.0, 1e-12);
 }
 
@@ -56,9 +59,10 @@ TEST(TranslationalOrder, GaussianDisplacementsGiveTheDebyeWallerFactor) {
   const Vec<3> L = Vec<3>::Constant(c * l);
   std::mt19937_64 rng(7);
   std::normal_distribution<double> g(0.0, s);
-  for (auto& p : x) p += Vec<3>(g(rng), g(rng), g(rng));
+  for (auto& p : x)
+    p += Vec<3>(g(rng), g(rng), g(rng));
   const double k2 = 3 * std::pow(2 * std::numbers::pi / l, 2);
-  const double expected = std::exp(-0.5 * k2 * s * s);  // 0.505
+  const double expected = std::exp(-0.5 * k2 * s * s); // 0.505
   // Statistical error of the mean of N unit phasors: about 1/sqrt(N) = 0.0072 (N = 6912).
   EXPECT_NEAR(translational_order<3>(x, L, {c, c, c}), expected, 4.0 / std::sqrt(x.size()));
 }
@@ -69,9 +73,11 @@ TEST(TranslationalOrder, UncorrelatedPositionsAreOfOrderOneOverRootN) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0.0, 16.0);
   std::vector<Vec<3>> x(n);
-  for (auto& p : x) p = Vec<3>(u(rng), u(rng), u(rng));
+  for (auto& p : x)
+    p = Vec<3>(u(rng), u(rng), u(rng));
   BraggPeaks<3> peaks;
-  for (int i = 1; i <= 8; ++i) peaks.m.push_back({i, i, -i});
+  for (int i = 1; i <= 8; ++i)
+    peaks.m.push_back({i, i, -i});
   // Mean of 8 values of |sum|/N, each Rayleigh with mean sqrt(pi / (4 N)) = 0.0140, sd 0.0073.
   const double r = mean_translational_order<3>(x, L, peaks);
   EXPECT_GT(r, 0.0140 - 4 * 0.0073 / std::sqrt(8.0));
@@ -82,12 +88,13 @@ TEST(TranslationalOrder, UncorrelatedPositionsAreOfOrderOneOverRootN) {
 TEST(TranslationalOrder, TwoDimensionalSquareLattice) {
   std::vector<Vec<2>> x;
   for (int i = 0; i < 10; ++i)
-    for (int j = 0; j < 10; ++j) x.push_back(Vec<2>(i * 1.1, j * 1.1));
+    for (int j = 0; j < 10; ++j)
+      x.push_back(Vec<2>(i * 1.1, j * 1.1));
   const Vec<2> L = Vec<2>::Constant(11.0);
   const auto peaks = find_bragg_peaks<2>(x, L, 10, 0.5);
   // Half space of {(10,0),(0,10),(10,+-10)} and their negatives: (10,0), (10,10), (10,-10), (0,10).
   EXPECT_EQ(peaks.m.size(), 4u);
 }
 
-}  // namespace
-}  // namespace granpack
+} // namespace
+} // namespace granpack

@@ -16,9 +16,9 @@ using namespace granpack;
 namespace {
 
 constexpr double kA = 1.0, kR = 0.5 * kA, kMass = 1.0, kF0 = 1.0;
-constexpr double kKn = 1e4 * kF0 / kA;  // kappa = a K_N / F0 = 1e4
+constexpr double kKn = 1e4 * kF0 / kA; // kappa = a K_N / F0 = 1e4
 constexpr double kD0 = 1e-3 * kA;
-constexpr double kH0 = kF0 / kKn;  // eq. (11)
+constexpr double kH0 = kF0 / kKn; // eq. (11)
 
 ContactLawParams cohesive_params(double mu, double zeta) {
   ContactLawParams p;
@@ -59,7 +59,7 @@ template <int dim> struct HeadOn {
   ContactLaw<dim> law;
   double dt;
   ContactState<dim> state;
-  double escaped_at = -1;  // time of escape, or -1
+  double escaped_at = -1; // time of escape, or -1
 
   double run(double h_start, double v_rel, long steps) {
     Vec<dim> xi = Vec<dim>::Zero(), xj = along_x<dim>(2 * kR - h_start);
@@ -88,7 +88,7 @@ template <int dim> struct HeadOn {
   }
 };
 
-}  // namespace
+} // namespace
 
 template <typename T> class ContactCohesionTest : public ::testing::Test {};
 template <int d> struct Dim { static constexpr int value = d; };
@@ -103,17 +103,20 @@ TYPED_TEST(ContactCohesionTest, ForceDistanceLawOfFigure1) {
   const ContactLaw<dim> law = make_contact_law<dim>(cohesive_params(0.5, 0.0));
   EXPECT_EQ(law.interaction_range(), kD0);
   for (int k = -300; k <= 300; ++k) {
-    const double h = k * (kD0 / 200);  // gaps up to 1.5 D0, overlaps up to 1.5 D0 = 15 h0
+    const double h = k * (kD0 / 200); // gaps up to 1.5 D0, overlaps up to 1.5 D0 = 15 h0
     const PairGeometry<dim> g = pair_at<dim>(h);
     ContactState<dim> st;
     const ContactForces<dim> f = law.force(g, ContactKinematics<dim>{}, st, 1e-6);
     double expected;
-    if (h > 0) expected = kKn * g.overlap - kF0;
-    else if (-g.overlap < kD0) expected = -kF0 * (1 + g.overlap / kD0);
-    else expected = 0;
+    if (h > 0)
+      expected = kKn * g.overlap - kF0;
+    else if (-g.overlap < kD0)
+      expected = -kF0 * (1 + g.overlap / kD0);
+    else
+      expected = 0;
     SCOPED_TRACE("h/D0 = " + std::to_string(h / kD0));
     EXPECT_NEAR(f.normal_total, expected, 1e-12 * kF0);
-    EXPECT_NEAR(f.force_on_j[0], expected, 1e-12 * kF0);  // n = +x, nothing tangential
+    EXPECT_NEAR(f.force_on_j[0], expected, 1e-12 * kF0); // n = +x, nothing tangential
     EXPECT_NEAR(f.normal_elastic + f.normal_attractive, expected, 1e-12 * kF0);
     EXPECT_EQ(f.active, -g.overlap < kD0);
     const ContactStiffness ks = law.stiffness(g, st);
@@ -148,12 +151,13 @@ TYPED_TEST(ContactCohesionTest, CoulombOnTheElasticPartAndHistoryLostWhenTheCont
   const PairGeometry<dim> g = pair_at<dim>(kH0);
   ContactState<dim> st;
   ContactKinematics<dim> slip;
-  slip.v_j[1] = 1e-6;  // j slides along +y
+  slip.v_j[1] = 1e-6; // j slides along +y
   ContactForces<dim> f;
-  for (int s = 0; s < 200; ++s) f = law.force(g, slip, st, 1.0);
-  EXPECT_NEAR(f.normal_total, 0.0, 1e-12);  // N^e + N^a = K_N h0 - F0
+  for (int s = 0; s < 200; ++s)
+    f = law.force(g, slip, st, 1.0);
+  EXPECT_NEAR(f.normal_total, 0.0, 1e-12); // N^e + N^a = K_N h0 - F0
   EXPECT_NEAR(f.normal_elastic, kF0, 1e-12);
-  EXPECT_NEAR(-f.tangential[1], mu * kF0, 1e-12);  // on the cone of N^e, not of N^e - F0
+  EXPECT_NEAR(-f.tangential[1], mu * kF0, 1e-12); // on the cone of N^e, not of N^e - F0
   EXPECT_TRUE(st.flags & kSliding);
   // Open the contact to a gap D0/2: a distant interaction, T and its history gone.
   f = law.force(pair_at<dim>(-0.5 * kD0), slip, st, 1.0);
@@ -170,9 +174,9 @@ TYPED_TEST(ContactCohesionTest, CoulombOnTheElasticPartAndHistoryLostWhenTheCont
 TYPED_TEST(ContactCohesionTest, IsolatedPairSettlesAtDeflectionH0) {
   constexpr int dim = TypeParam::value;
   HeadOn<dim> pair{make_contact_law<dim>(cohesive_params(0.5, 0.8)), 0.0, {}};
-  const double t_c = M_PI * std::sqrt(0.5 * kMass / kKn);  // contact duration, m* = m/2
+  const double t_c = M_PI * std::sqrt(0.5 * kMass / kKn); // contact duration, m* = m/2
   pair.dt = t_c / 200;
-  const double h = pair.run(-0.5 * kD0, 0.0, 400'000);  // 2000 contact durations
+  const double h = pair.run(-0.5 * kD0, 0.0, 400'000); // 2000 contact durations
   std::printf("dim %d: settled at h = %.12e, h0 = %.12e\n", dim, h, kH0);
   EXPECT_NEAR(h / kH0, 1.0, 1e-9);
   EXPECT_LT(pair.escaped_at, 0);
@@ -184,11 +188,11 @@ TYPED_TEST(ContactCohesionTest, IsolatedPairSettlesAtDeflectionH0) {
 TYPED_TEST(ContactCohesionTest, GrainsSeparateOnlyAboveTheEscapeVelocityOfEq7) {
   constexpr int dim = TypeParam::value;
   const ContactLaw<dim> law = make_contact_law<dim>(cohesive_params(0.5, 0.8));
-  const double v_star = std::sqrt(kF0 * kD0);  // eq. (7)
+  const double v_star = std::sqrt(kF0 * kD0); // eq. (7)
   const double v_escape = law.cohesion->escape_velocity(0.5 * kMass);
   EXPECT_NEAR(v_escape, v_star * std::sqrt(2.0), 1e-15);
   for (double factor : {0.99, 1.01}) {
-    HeadOn<dim> pair{law, (kD0 / v_escape) / 1e5, {}};  // 1e5 steps to cross the range
+    HeadOn<dim> pair{law, (kD0 / v_escape) / 1e5, {}}; // 1e5 steps to cross the range
     const double h = pair.run(-1e-12 * kD0, factor * v_escape, 2'000'000);
     std::printf("dim %d: v/v_escape = %.2f: escaped %d, final h/D0 = %.4g\n", dim, factor,
                 pair.escaped_at >= 0, h / kD0);
@@ -196,7 +200,7 @@ TYPED_TEST(ContactCohesionTest, GrainsSeparateOnlyAboveTheEscapeVelocityOfEq7) {
       EXPECT_GE(pair.escaped_at, 0);
     } else {
       EXPECT_LT(pair.escaped_at, 0);
-      EXPECT_GT(h, 0);  // back in contact
+      EXPECT_GT(h, 0); // back in contact
     }
   }
 }
@@ -208,8 +212,8 @@ TYPED_TEST(ContactCohesionTest, GrainsSeparateOnlyAboveTheEscapeVelocityOfEq7) {
 TYPED_TEST(ContactCohesionTest, RollingMomentElasticThenOnItsThreshold) {
   constexpr int dim = TypeParam::value;
   ContactLawParams p = cohesive_params(0.0, 0.0);
-  p.rolling_stiffness = 1e-4 * kA * kA * kKn;  // table I
-  p.rolling_friction = 1e-2 * 0.5 * kA;        // table I: mu_r = 1e-2 mu a with mu = 0.5
+  p.rolling_stiffness = 1e-4 * kA * kA * kKn; // table I
+  p.rolling_friction = 1e-2 * 0.5 * kA;       // table I: mu_r = 1e-2 mu a with mu = 0.5
   const ContactLaw<dim> law = make_contact_law<dim>(p);
   const PairGeometry<dim> g = pair_at<dim>(2 * kH0);
   const double n_e = kKn * 2 * kH0, limit = p.rolling_friction * n_e;
@@ -217,16 +221,19 @@ TYPED_TEST(ContactCohesionTest, RollingMomentElasticThenOnItsThreshold) {
   const double step = limit / p.rolling_stiffness / 1000.5;
   ContactState<dim> st;
   ContactKinematics<dim> kin;
-  kin.w_j = about_z<dim>(step);  // dt = 1
+  kin.w_j = about_z<dim>(step); // dt = 1
   double moment = 0;
   int first_plastic = -1;
   for (int s = 1; s <= 1500; ++s) {
     const ContactForces<dim> f = law.force(g, kin, st, 1.0);
     moment = f.torque_j[rot_dim<dim> - 1];
     EXPECT_DOUBLE_EQ(f.torque_i[rot_dim<dim> - 1], -moment);
-    if (first_plastic < 0 && (st.flags & kRollingPlastic)) first_plastic = s;
-    if (first_plastic < 0) EXPECT_NEAR(moment, -p.rolling_stiffness * s * step, 1e-12 * limit);
-    else EXPECT_NEAR(moment, -limit, 1e-12 * limit);
+    if (first_plastic < 0 && (st.flags & kRollingPlastic))
+      first_plastic = s;
+    if (first_plastic < 0)
+      EXPECT_NEAR(moment, -p.rolling_stiffness * s * step, 1e-12 * limit);
+    else
+      EXPECT_NEAR(moment, -limit, 1e-12 * limit);
   }
   EXPECT_EQ(first_plastic, 1001);
   // Reverse the spin: elastic unloading by K_r per radian, flag cleared.
@@ -250,9 +257,9 @@ TYPED_TEST(ContactCohesionTest, PairUnderGrowingTorqueStartsRollingAtMuRNe) {
   const ContactLaw<dim> law = make_contact_law<dim>(p);
   const PairGeometry<dim> g = pair_at<dim>(3 * kH0);
   const double n_e = kKn * 3 * kH0, limit = p.rolling_friction * n_e;
-  const double inertia = kMass * kA * kA / (dim == 2 ? 8.0 : 10.0);  // disk / sphere
+  const double inertia = kMass * kA * kA / (dim == 2 ? 8.0 : 10.0); // disk / sphere
   const double period = std::sqrt(inertia / p.rolling_stiffness);
-  const double ramp = limit / (1000 * period);  // dGamma/dt
+  const double ramp = limit / (1000 * period); // dGamma/dt
   const double dt = period / 100;
   ContactState<dim> st;
   ContactKinematics<dim> kin;
@@ -266,7 +273,8 @@ TYPED_TEST(ContactCohesionTest, PairUnderGrowingTorqueStartsRollingAtMuRNe) {
     const ContactForces<dim> f = law.force(g, kin, st, dt);
     torque_contact = f.torque_j[rot_dim<dim> - 1];
     w += 0.5 * dt * (ramp * t + torque_contact) / inertia;
-    if (st.flags & kRollingPlastic) yield_torque = ramp * t;
+    if (st.flags & kRollingPlastic)
+      yield_torque = ramp * t;
   }
   std::printf("dim %d: yield at applied torque %.9g, mu_r N^e %.9g (ratio %.6f)\n", dim,
               yield_torque, limit, yield_torque / limit);
@@ -285,7 +293,7 @@ TEST(ContactRolling3D, PivotingIsFreeAndRigidRotationIsObjective) {
   {
     ContactState<3> st;
     ContactKinematics<3> kin;
-    kin.w_j = Vec<3>(1e-3, 0, 0);  // about n = +x
+    kin.w_j = Vec<3>(1e-3, 0, 0); // about n = +x
     const ContactForces<3> f = law.force(pair_at<3>(kH0), kin, st, 1.0);
     EXPECT_EQ(st.rolling.norm(), 0.0);
     EXPECT_EQ((f.torque_j + f.torque_i).norm(), 0.0);
@@ -302,11 +310,11 @@ TEST(ContactRolling3D, PivotingIsFreeAndRigidRotationIsObjective) {
   const Vec<3> axis = Vec<3>(0.3, -0.5, 0.8).normalized();
   const double omega = 2.0, dt = 1e-4;
   const Vec<3> r0(2 * kR - h, 0, 0);
-  for (int s = 1; s <= 20000; ++s) {  // 4 rad
+  for (int s = 1; s <= 20000; ++s) { // 4 rad
     const Eigen::AngleAxisd rot(omega * dt * s, axis);
     const Vec<3> r = rot * r0;
     ContactKinematics<3> rigid;
-    rigid.v_j = omega * axis.cross(r);  // i at the origin, the pair turning about i
+    rigid.v_j = omega * axis.cross(r); // i at the origin, the pair turning about i
     rigid.w_i = rigid.w_j = omega * axis;
     law.force(make_pair_geometry<3>(kR, kR, kMass, kMass, r), rigid, st, dt);
     const Vec<3> expected = rot * Vec<3>(0, 0, stored);
@@ -325,13 +333,14 @@ TYPED_TEST(ContactCohesionTest, RollingDampingGivesTheDampedOscillatorDecrement)
   for (double zeta_r : {0.0, 0.05}) {
     ContactLawParams p = cohesive_params(0.0, 0.0);
     p.rolling_stiffness = 1e-4 * kA * kA * kKn;
-    p.rolling_friction = kA;  // far above any moment reached here
+    p.rolling_friction = kA; // far above any moment reached here
     p.rolling_damping = zeta_r;
     const ContactLaw<dim> law = make_contact_law<dim>(p);
     const PairGeometry<dim> g = pair_at<dim>(kH0);
     const double inertia = kMass * kA * kA / (dim == 2 ? 8.0 : 10.0);
     const double eta = law.rolling->viscosity(g.effective_mass, g.effective_radius);
-    EXPECT_DOUBLE_EQ(eta, zeta_r * 2 * g.effective_radius * std::sqrt(g.effective_mass * p.rolling_stiffness));
+    EXPECT_DOUBLE_EQ(eta, zeta_r * 2 * g.effective_radius *
+                              std::sqrt(g.effective_mass * p.rolling_stiffness));
     const double z = eta / (2 * std::sqrt(inertia * p.rolling_stiffness));
     const double period = 2 * M_PI * std::sqrt(inertia / p.rolling_stiffness);
     const double dt = period / 20000;
@@ -345,7 +354,8 @@ TYPED_TEST(ContactCohesionTest, RollingDampingGivesTheDampedOscillatorDecrement)
       torque = law.force(g, kin, st, dt).torque_j[rot_dim<dim> - 1];
       w += 0.5 * dt * torque / inertia;
       const double theta = st.rolling[rot_dim<dim> - 1];
-      if (s >= 2 && prev > prev2 && prev >= theta && prev > 0) maxima.push_back(prev);
+      if (s >= 2 && prev > prev2 && prev >= theta && prev > 0)
+        maxima.push_back(prev);
       prev2 = prev;
       prev = theta;
     }
@@ -354,6 +364,7 @@ TYPED_TEST(ContactCohesionTest, RollingDampingGivesTheDampedOscillatorDecrement)
     std::printf("dim %d zeta_r %.2f: z %.5f, maxima ratio %.6f, expected %.6f\n", dim, zeta_r, z,
                 maxima[2] / maxima[1], expected);
     EXPECT_NEAR(maxima[2] / maxima[1], expected, 1e-3);
-    if (zeta_r == 0) EXPECT_NEAR(maxima[2] / maxima[1], 1.0, 1e-6);
+    if (zeta_r == 0)
+      EXPECT_NEAR(maxima[2] / maxima[1], 1.0, 1e-6);
   }
 }

@@ -17,8 +17,8 @@ namespace {
 
 struct Collision {
   bool separated = false;
-  double duration = 0;     // time with h > 0 (crossings interpolated linearly)
-  double restitution = 0;  // -(separation velocity) / (approach velocity), at the end
+  double duration = 0;    // time with h > 0 (crossings interpolated linearly)
+  double restitution = 0; // -(separation velocity) / (approach velocity), at the end
 };
 
 /// Grain i at rest, j approaching along -n at speed v (equal radii r and masses m). The gap at
@@ -49,8 +49,10 @@ Collision collide(const ContactLaw<dim>& law, double r, double m, double v, doub
     vi -= (0.5 * dt / m) * fj;
     vj += (0.5 * dt / m) * fj;
     const double h = g.overlap;
-    if (t_start < 0 && h > 0) t_start = t - dt * h / (h - h_prev);
-    if (t_start >= 0 && h <= 0) t_end = t - dt * h / (h - h_prev);
+    if (t_start < 0 && h > 0)
+      t_start = t - dt * h / (h - h_prev);
+    if (t_start >= 0 && h <= 0)
+      t_end = t - dt * h / (h - h_prev);
     h_prev = h;
   }
   return {t_end > 0, t_end - t_start, (vj - vi).dot(n) / v};
@@ -67,7 +69,7 @@ ContactLaw<3> glass_law(double zeta) {
   return make_contact_law<3>(p);
 }
 
-}  // namespace
+} // namespace
 
 TEST(ContactCollision, HertzDurationAndElasticRestitutionOfGlassSpheres) {
   const double r = kD / 2, m = kRho * std::numbers::pi * kD * kD * kD / 6;
@@ -96,7 +98,7 @@ TEST(ContactCollision, HertzRestitutionDecreasesWithZetaAndIgnoresVelocity) {
     int k = 0;
     for (double v : {0.01, 1.0}) {
       const double tau = hertz_contact_duration(e_tilde, r / 2, m / 2, v);
-      c[k++] = collide<3>(glass_law(zeta), r, m, v, tau / 2000, 100'000);  // 50 τ at most
+      c[k++] = collide<3>(glass_law(zeta), r, m, v, tau / 2000, 100'000); // 50 τ at most
     }
     std::printf("Hertz zeta=%.2f: e(V=0.01) %.6g, e(V=1) %.6g, separated %d %d\n", zeta,
                 c[0].restitution, c[1].restitution, c[0].separated, c[1].separated);
@@ -123,7 +125,7 @@ TYPED_TEST_SUITE(ContactLinearCollisionTest, Dims);
 TYPED_TEST(ContactLinearCollisionTest, DurationAndRestitutionOfDampedOscillator) {
   constexpr int dim = TypeParam::value;
   const double r = kD / 2;
-  const double m = dim == 2 ? kRho * std::numbers::pi * kD * kD / 4  // per unit thickness
+  const double m = dim == 2 ? kRho * std::numbers::pi * kD * kD / 4 // per unit thickness
                             : kRho * std::numbers::pi * kD * kD * kD / 6;
   const double k_n = dim == 2 ? 1e7 : 1e4;
   for (double zeta : {0.0, 0.05, 0.2, 0.5, 0.8}) {

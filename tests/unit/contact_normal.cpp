@@ -40,7 +40,7 @@ template <int d> struct Dim { static constexpr int value = d; };
 using Dims = ::testing::Types<Dim<2>, Dim<3>>;
 TYPED_TEST_SUITE(ContactGeometryTest, Dims);
 
-}  // namespace
+} // namespace
 
 TYPED_TEST(ContactGeometryTest, NormalOverlapEffectiveRadiusMassAndBranches) {
   constexpr int dim = TypeParam::value;
@@ -55,20 +55,21 @@ TYPED_TEST(ContactGeometryTest, NormalOverlapEffectiveRadiusMassAndBranches) {
   // Both branch vectors end at the same point (middle of the overlap): b_i - b_j = r_ij.
   EXPECT_NEAR((g.branch_i() - g.branch_j() - r).norm(), 0.0, 1e-15);
   EXPECT_NEAR(g.branch_i().norm(), ri - 0.05, 1e-15);
-  const PairGeometry<dim> gap = make_pair_geometry<dim>(ri, rj, mi, mj, 1.5 * unit_direction<dim>());
+  const PairGeometry<dim> gap =
+      make_pair_geometry<dim>(ri, rj, mi, mj, 1.5 * unit_direction<dim>());
   EXPECT_NEAR(gap.overlap, -0.1, 1e-15);
   EXPECT_FALSE(gap.touching());
 }
 
 TEST(ContactHertz, EqualSpheresMatchPaperEquations1And2) {
-  const double a = 1e-3, h = 2e-6;  // diameter, deflection
+  const double a = 1e-3, h = 2e-6; // diameter, deflection
   const HertzNormal hz{kETilde};
   const double r_eff = (a / 2) * (a / 2) / a;
   const NormalResponse nr = hz.response(h, r_eff);
-  const double n_paper = kETilde * std::sqrt(a) * std::pow(h, 1.5) / 3.0;     // eq. (1)
-  const double k_paper = kETilde * std::sqrt(a) * std::sqrt(h) / 2.0;         // eq. (2)
+  const double n_paper = kETilde * std::sqrt(a) * std::pow(h, 1.5) / 3.0; // eq. (1)
+  const double k_paper = kETilde * std::sqrt(a) * std::sqrt(h) / 2.0;     // eq. (2)
   const double k_of_n = std::cbrt(3.0) / 2.0 * std::pow(kETilde, 2.0 / 3.0) * std::cbrt(a) *
-                        std::cbrt(n_paper);                                   // eq. (2), N form
+                        std::cbrt(n_paper); // eq. (2), N form
   EXPECT_NEAR(nr.force / n_paper, 1.0, 1e-14);
   EXPECT_NEAR(nr.stiffness / k_paper, 1.0, 1e-14);
   EXPECT_NEAR(nr.stiffness / k_of_n, 1.0, 1e-13);
@@ -79,8 +80,7 @@ TEST(ContactHertz, UnequalSpheresMatchJohnsonForm) {
   const double ri = 1e-3, rj = 0.4e-3, h = 3e-6;
   const double e_star = 1.0 / (2.0 * (1.0 - kNu * kNu) / kE);
   const double r_eff = 1.0 / (1.0 / ri + 1.0 / rj);
-  const PairGeometry<3> g =
-      make_pair_geometry<3>(ri, rj, 1.0, 1.0, Vec<3>(0.0, ri + rj - h, 0.0));
+  const PairGeometry<3> g = make_pair_geometry<3>(ri, rj, 1.0, 1.0, Vec<3>(0.0, ri + rj - h, 0.0));
   const NormalResponse nr = normal_response(HertzNormal{kETilde}, g.overlap, g.effective_radius);
   EXPECT_NEAR(nr.force / (4.0 / 3.0 * e_star * std::sqrt(r_eff) * std::pow(h, 1.5)), 1.0, 1e-9);
   EXPECT_NEAR(nr.stiffness / (2.0 * e_star * std::sqrt(r_eff * h)), 1.0, 1e-9);
@@ -91,7 +91,8 @@ TEST(ContactHertz, StiffnessIsDerivativeOfForce) {
   const double r_eff = 0.3e-3;
   for (double h : {1e-8, 1e-7, 5e-6, 1e-5}) {
     const double dh = 1e-5 * h;
-    const double fd = (hz.response(h + dh, r_eff).force - hz.response(h - dh, r_eff).force) / (2 * dh);
+    const double fd =
+        (hz.response(h + dh, r_eff).force - hz.response(h - dh, r_eff).force) / (2 * dh);
     EXPECT_NEAR(fd / hz.response(h, r_eff).stiffness, 1.0, 1e-8) << "h = " << h;
   }
   EXPECT_EQ(hz.response(0.0, r_eff).force, 0.0);
@@ -141,16 +142,16 @@ TYPED_TEST(ContactGeometryTest, SignConventionsAndMomentBalance) {
   const double ri = 1e-3, rj = 0.7e-3, h = 2e-6;
   const Vec<dim> n = unit_direction<dim>();
   const PairGeometry<dim> g = make_pair_geometry<dim>(ri, rj, 4e-6, 2e-6, (ri + rj - h) * n);
-  Vec<dim> t = Vec<dim>::Zero();  // a tangent direction
+  Vec<dim> t = Vec<dim>::Zero(); // a tangent direction
   t[0] = -n[1];
   t[1] = n[0];
   ContactKinematics<dim> kin;
-  kin.v_j = -0.01 * n + 1e-3 * t;  // j approaches i and slides along +t
+  kin.v_j = -0.01 * n + 1e-3 * t; // j approaches i and slides along +t
   ContactState<dim> st;
   const ContactForces<dim> f = law.force(g, kin, st, 1e-7);
   ASSERT_TRUE(f.active);
   const NormalResponse nr = normal_response(law.normal, h, g.effective_radius);
-  EXPECT_NEAR(f.normal_elastic / nr.force, 1.0, 1e-9);  // h from |r_ij|: rounding
+  EXPECT_NEAR(f.normal_elastic / nr.force, 1.0, 1e-9); // h from |r_ij|: rounding
   EXPECT_GT(f.normal_total, f.normal_elastic);         // approaching: ḣ > 0, N^v > 0
   EXPECT_GT(f.force_on_j.dot(n), 0.0);                 // repulsive on j along +n
   EXPECT_LT(f.tangential.dot(t), 0.0);                 // friction on j opposes its sliding
@@ -229,16 +230,18 @@ TEST(ContactCollisionTimes, ClosedForms) {
   double sum = 0;
   for (int k = 0; k <= n; ++k) {
     const double s = double(k) / n;
-    const double g = k == 0 ? 2.0 / std::sqrt(2.5) : 2 * s / std::sqrt(1 - std::pow(1 - s * s, 2.5));
+    const double g =
+        k == 0 ? 2.0 / std::sqrt(2.5) : 2 * s / std::sqrt(1 - std::pow(1 - s * s, 2.5));
     sum += (k == 0 || k == n ? 1 : (k % 2 ? 4 : 2)) * g;
   }
   EXPECT_NEAR(hertz_duration_constant(), 2 * sum / (3.0 * n), 1e-9);
   EXPECT_NEAR(hertz_duration_constant(), 2.94328, 1e-5);
   // τ = 2.9432 (15 m*/(16 E* sqrt R*))^{2/5} V^{-1/5}
   const double m = 1e-6, r = 2.5e-4, v = 0.3, e_star = kETilde / 2;
-  EXPECT_NEAR(hertz_contact_duration(kETilde, r, m, v) /
-                  (2.943275 * std::pow(15 * m / (16 * e_star * std::sqrt(r)), 0.4) * std::pow(v, -0.2)),
-              1.0, 1e-6);
+  EXPECT_NEAR(
+      hertz_contact_duration(kETilde, r, m, v) /
+          (2.943275 * std::pow(15 * m / (16 * e_star * std::sqrt(r)), 0.4) * std::pow(v, -0.2)),
+      1.0, 1e-6);
   EXPECT_NEAR(linear_contact_duration(4.0, 1.0), M_PI / 2, 1e-15);
   EXPECT_NEAR(linear_critical_time_step(4.0, 1.0), 1.0, 1e-15);
   EXPECT_NEAR(linear_restitution(0.0), 1.0, 1e-15);

@@ -5,7 +5,6 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
-#include <cstdio>
 #include <limits>
 
 #include "granpack/contact/contact_law.h"
@@ -16,7 +15,7 @@ using namespace granpack;
 namespace {
 
 constexpr double kE = 70e9, kNu = 0.3;
-constexpr double kR = 0.5e-3, kMass = 1.3e-6;  // glass sphere, d = 1 mm
+constexpr double kR = 0.5e-3, kMass = 1.3e-6; // glass sphere, d = 1 mm
 const double kInf = std::numeric_limits<double>::infinity();
 
 template <int dim> ContactLaw<dim> hertz_law(double mu, bool walton = true) {
@@ -30,7 +29,7 @@ template <int dim> ContactLaw<dim> hertz_law(double mu, bool walton = true) {
 
 template <int dim> RotVec<dim> spin_about_z(double w) {
   RotVec<dim> r = RotVec<dim>::Zero();
-  r[rot_dim<dim> - 1] = w;  // z component in 3D, the only one in 2D
+  r[rot_dim<dim> - 1] = w; // z component in 3D, the only one in 2D
   return r;
 }
 
@@ -41,7 +40,7 @@ template <int dim> struct SpinRig {
   ContactState<dim> state;
   Vec<dim> x_j = Vec<dim>::Zero();
   ContactForces<dim> last;
-  double work = 0;  // work done ON the contact by the agent holding j (trapezoid rule)
+  double work = 0; // work done ON the contact by the agent holding j (trapezoid rule)
 
   SpinRig(const ContactLaw<dim>& l, double h) : law(l) {
     x_j[0] = 2 * kR - h;
@@ -69,15 +68,15 @@ template <int d> struct Dim { static constexpr int value = d; };
 using Dims = ::testing::Types<Dim<2>, Dim<3>>;
 TYPED_TEST_SUITE(ContactTangentialTest, Dims);
 
-}  // namespace
+} // namespace
 
 TYPED_TEST(ContactTangentialTest, CoulombSaturatesAtMuTimesElasticNormalForce) {
   constexpr int dim = TypeParam::value;
-  const double h = 2e-6, mu = 0.3, dphi = 5e-6;  // contact point moves ~2.5e-9 m per step
+  const double h = 2e-6, mu = 0.3, dphi = 5e-6; // contact point moves ~2.5e-9 m per step
   SpinRig<dim> rig(hertz_law<dim>(mu), h);
   const double n_e = rig.last.normal_elastic;
-  const double k_t = rig.law.stiffness(make_pair_geometry<dim>(kR, kR, kMass, kMass, rig.x_j),
-                                       rig.state).k_t;
+  const double k_t =
+      rig.law.stiffness(make_pair_geometry<dim>(kR, kR, kMass, kMass, rig.x_j), rig.state).k_t;
   const double arm = kR - h / 2;
   bool saw_elastic = false;
   for (int s = 1; s <= 400; ++s) {
@@ -118,14 +117,15 @@ TYPED_TEST(ContactTangentialTest, InfiniteFrictionNeverSlides) {
   constexpr int dim = TypeParam::value;
   const double h = 2e-6, dphi = 1e-4;
   SpinRig<dim> rig(hertz_law<dim>(kInf), h);
-  const double k_t = rig.law.stiffness(make_pair_geometry<dim>(kR, kR, kMass, kMass, rig.x_j),
-                                       rig.state).k_t;
+  const double k_t =
+      rig.law.stiffness(make_pair_geometry<dim>(kR, kR, kMass, kMass, rig.x_j), rig.state).k_t;
   const int steps = 500;
-  for (int s = 0; s < steps; ++s) rig.step(0.0, dphi);
+  for (int s = 0; s < steps; ++s)
+    rig.step(0.0, dphi);
   EXPECT_FALSE(rig.state.flags & kSliding);
   const double t = rig.last.tangential.norm();
   EXPECT_NEAR(t / (k_t * (kR - h / 2) * dphi * steps), 1.0, 1e-9);
-  EXPECT_GT(t, 10 * rig.last.normal_elastic);  // far beyond any Coulomb limit used here
+  EXPECT_GT(t, 10 * rig.last.normal_elastic); // far beyond any Coulomb limit used here
 }
 
 // Cycle: (1) h0 -> h1 at fixed tangential displacement (T = 0), (2) slide the contact point
@@ -142,22 +142,26 @@ TYPED_TEST(ContactTangentialTest, WaltonRescalingMakesLoadUnloadCycleDissipative
   double work[2] = {0, 0};
   for (int walton = 0; walton < 2; ++walton) {
     SpinRig<dim> rig(hertz_law<dim>(kInf, walton == 1), h0);
-    for (int s = 0; s < steps; ++s) rig.step(-(h1 - h0) / steps, 0.0);
+    for (int s = 0; s < steps; ++s)
+      rig.step(-(h1 - h0) / steps, 0.0);
     EXPECT_EQ(rig.last.tangential.norm(), 0.0);
-    for (int s = 0; s < steps; ++s) rig.step(0.0, phi / steps);
+    for (int s = 0; s < steps; ++s)
+      rig.step(0.0, phi / steps);
     const double t_loaded = rig.last.tangential.norm();
     const double n_loaded = rig.last.normal_elastic;
-    for (int s = 0; s < steps; ++s) rig.step((h1 - h0) / steps, 0.0);
+    for (int s = 0; s < steps; ++s)
+      rig.step((h1 - h0) / steps, 0.0);
     const double t_unloaded = rig.last.tangential.norm();
     const double expected_scale =
-        walton ? std::cbrt(rig.last.normal_elastic / n_loaded) : 1.0;  // K_T(h0)/K_T(h1)
+        walton ? std::cbrt(rig.last.normal_elastic / n_loaded) : 1.0; // K_T(h0)/K_T(h1)
     EXPECT_NEAR(t_unloaded / t_loaded, expected_scale, 1e-12);
-    for (int s = 0; s < steps; ++s) rig.step(0.0, -phi / steps);
+    for (int s = 0; s < steps; ++s)
+      rig.step(0.0, -phi / steps);
     EXPECT_NEAR(rig.x_j[0], 2 * kR - h0, 1e-18);
     work[walton] = rig.work;
     // Stored tangential energy left at the end, T²/(2 K_T0): dissipation = work - stored.
-    const double k_t0 = rig.law.stiffness(make_pair_geometry<dim>(kR, kR, kMass, kMass, rig.x_j),
-                                          rig.state).k_t;
+    const double k_t0 =
+        rig.law.stiffness(make_pair_geometry<dim>(kR, kR, kMass, kMass, rig.x_j), rig.state).k_t;
     const double stored = rig.last.tangential.squaredNorm() / (2 * k_t0);
     if (walton) {
       EXPECT_GE(rig.work - stored, 0.0);
@@ -165,11 +169,11 @@ TYPED_TEST(ContactTangentialTest, WaltonRescalingMakesLoadUnloadCycleDissipative
       EXPECT_LT(rig.work - stored, 0.0);
     }
   }
-  EXPECT_GT(work[1], 0.0);  // with Walton: no energy created
-  EXPECT_LT(work[0], 0.0);  // without: the cycle returns energy it never received
+  EXPECT_GT(work[1], 0.0); // with Walton: no energy created
+  EXPECT_LT(work[0], 0.0); // without: the cycle returns energy it never received
   // Magnitudes: ±½ (K_T1 - K_T0) u², u = φ R (to O(h/R)).
-  const double kt0 = TangentialElasticity::mindlin_ratio(kNu) * kE / (1 - kNu * kNu) *
-                     std::sqrt(kR / 2 * h0);
+  const double kt0 =
+      TangentialElasticity::mindlin_ratio(kNu) * kE / (1 - kNu * kNu) * std::sqrt(kR / 2 * h0);
   const double kt1 = kt0 * std::sqrt(h1 / h0);
   const double w = 0.5 * (kt1 - kt0) * (phi * kR) * (phi * kR);
   EXPECT_NEAR(work[1] / w, 1.0, 0.01);
@@ -195,7 +199,7 @@ void check_rigid_rotation(const Vec<dim>& normal0, const RotVec<dim>& omega, boo
                           int steps = 5000, double tol = 1e-10) {
   const double ri = kR, rj = 0.7 * kR, mi = kMass, mj = 0.34 * kMass, h = 3e-6;
   ContactLaw<dim> law = hertz_law<dim>(kInf, walton);
-  law.damping.zeta = 0.5;  // ḣ = 0 in a rigid motion: damping must not matter
+  law.damping.zeta = 0.5; // ḣ = 0 in a rigid motion: damping must not matter
   // Centre of mass at the origin: positions of the order of the radii keep rounding small.
   const Vec<dim> xi0 = -(mj / (mi + mj)) * (ri + rj - h) * normal0;
   const Vec<dim> xj0 = xi0 + (ri + rj - h) * normal0;
@@ -203,12 +207,12 @@ void check_rigid_rotation(const Vec<dim>& normal0, const RotVec<dim>& omega, boo
   // Tangential load: spin j for a few steps with the centres fixed.
   ContactKinematics<dim> load;
   if constexpr (dim == 3) {
-    load.w_j = normal0.cross(Vec<3>(0.3, 0.5, -0.2)) * 50.0;  // a rolling-axis spin
+    load.w_j = normal0.cross(Vec<3>(0.3, 0.5, -0.2)) * 50.0; // a rolling-axis spin
   } else {
     load.w_j[0] = 50.0;
   }
   ContactForces<dim> f;
-  for (int s = 0; s < 5; ++s)  // T0 about 0.4 N^e
+  for (int s = 0; s < 5; ++s) // T0 about 0.4 N^e
     f = law.force(make_pair_geometry<dim>(ri, rj, mi, mj, xj0 - xi0), load, st, 1e-5);
   const Vec<dim> t0 = f.tangential;
   const double n0 = f.normal_elastic;
@@ -240,7 +244,7 @@ void check_rigid_rotation(const Vec<dim>& normal0, const RotVec<dim>& omega, boo
   EXPECT_FALSE(st.flags & kSliding);
 }
 
-}  // namespace
+} // namespace
 
 TEST(ContactObjectivity, RigidRotationOfPairIn2D) {
   RotVec<2> w;
@@ -254,7 +258,7 @@ TEST(ContactObjectivity, RigidRotationOfPairIn3DGenericAxis) {
 
 TEST(ContactObjectivity, PivotingAboutTheNormalIn3D) {
   const Vec<3> n(0.36, -0.48, 0.8);
-  check_rigid_rotation<3>(n, Vec<3>(250.0 * n));  // pure pivoting: centres do not move
+  check_rigid_rotation<3>(n, Vec<3>(250.0 * n)); // pure pivoting: centres do not move
 }
 
 TEST(ContactObjectivity, RollingAboutAnAxisNormalToTheContactIn3D) {

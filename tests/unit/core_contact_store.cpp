@@ -13,11 +13,12 @@ ContactState<3> state_with(double n) {
   s.normal_force = n;
   return s;
 }
-}  // namespace
+} // namespace
 
 TEST(ContactStore, PermuteReordersAndKeepsTheKeyIndex) {
   ContactStore<3> store;
-  for (GlobalId k = 0; k < 5; ++k) store.insert(ContactKey::of(k, k + 10), state_with(double(k)));
+  for (GlobalId k = 0; k < 5; ++k)
+    store.insert(ContactKey::of(k, k + 10), state_with(double(k)));
   store.permute({4, 2, 0, 1, 3});
   const double expect[] = {4, 2, 0, 1, 3};
   for (std::size_t k = 0; k < 5; ++k) {
@@ -35,7 +36,8 @@ TEST(ContactStore, ReservedRoomTakesInsertsWithoutMoving) {
   store.reserve(1000);
   store.insert(ContactKey::of(0, 1), state_with(1));
   const ContactState<3>* first = &store.state(0);
-  for (GlobalId k = 1; k < 1000; ++k) store.insert(ContactKey::of(k, k + 5000), state_with(double(k)));
+  for (GlobalId k = 1; k < 1000; ++k)
+    store.insert(ContactKey::of(k, k + 5000), state_with(double(k)));
   EXPECT_EQ(&store.state(0), first);
 
   std::vector<std::size_t> order(store.size());
@@ -43,9 +45,11 @@ TEST(ContactStore, ReservedRoomTakesInsertsWithoutMoving) {
   store.permute(order, 3000);
   const ContactState<3>* moved = &store.state(0);
   EXPECT_EQ(store.state(0).normal_force, 999.0);
-  for (GlobalId k = 1000; k < 3000; ++k) store.insert(ContactKey::of(k, k + 5000), state_with(double(k)));
+  for (GlobalId k = 1000; k < 3000; ++k)
+    store.insert(ContactKey::of(k, k + 5000), state_with(double(k)));
   EXPECT_EQ(&store.state(0), moved);
   EXPECT_EQ(store.size(), 3000u);
-  EXPECT_EQ(store.state(static_cast<std::size_t>(store.find(ContactKey::of(2999, 7999)))).normal_force,
-            2999.0);
+  EXPECT_EQ(
+      store.state(static_cast<std::size_t>(store.find(ContactKey::of(2999, 7999)))).normal_force,
+      2999.0);
 }

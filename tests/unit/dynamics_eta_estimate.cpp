@@ -15,11 +15,11 @@ EquilibriumMeasure measure_with_force(double f) {
 }
 
 TEST(EtaEstimate, ExtrapolatesAnExponentialDecay) {
-  EquilibriumTolerances tol;  // force 1e-4
+  EquilibriumTolerances tol; // force 1e-4
   EtaEstimate eta(tol);
   // r = 1e3 * exp(-k s): reaches 1 (force = 1e-4) at s = ln(1e3)/k.
   const double k = 1e-4;
-  EXPECT_FALSE(eta.update_steps(measure_with_force(1e-1), 0).has_value());  // one point: no rate
+  EXPECT_FALSE(eta.update_steps(measure_with_force(1e-1), 0).has_value()); // one point: no rate
   const auto steps = eta.update_steps(measure_with_force(1e-1 * std::exp(-k * 1000)), 1000);
   ASSERT_TRUE(steps.has_value());
   EXPECT_NEAR(*steps, std::log(1e3) / k - 1000, 1e-6 * std::log(1e3) / k);
@@ -35,7 +35,7 @@ TEST(EtaEstimate, NoEstimateWhileGrowingAndZeroOnceMet) {
 TEST(EtaEstimate, NoFarExtrapolationFromAShortHistory) {
   // A compression's |dP|/P ~ 1 drifting by 1e-6 per 1000 steps: the decay would "reach" the
   // tolerance after ~1e10 steps, 1e7 times the history; no estimate rather than "ETA 2147 d".
-  EquilibriumTolerances tol;  // stress 1e-4
+  EquilibriumTolerances tol; // stress 1e-4
   EtaEstimate eta(tol);
   EquilibriumMeasure m;
   m.stress = 1.0;
@@ -67,5 +67,5 @@ TEST(HumanDuration, Units) {
   EXPECT_EQ(human_duration(3 * 86400), "3.0 d");
 }
 
-}  // namespace
-}  // namespace granpack
+} // namespace
+} // namespace granpack

@@ -32,7 +32,8 @@ template <int dim> void thermalise(Config<dim>& c, std::uint64_t seed) {
   Vec<dim> p = Vec<dim>::Zero();
   double mass = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    for (int a = 0; a < dim; ++a) c.v[i][a] = g(rng) / std::sqrt(c.m[i]);
+    for (int a = 0; a < dim; ++a)
+      c.v[i][a] = g(rng) / std::sqrt(c.m[i]);
     p += c.m[i] * c.v[i];
     mass += c.m[i];
   }
@@ -42,7 +43,8 @@ template <int dim> void thermalise(Config<dim>& c, std::uint64_t seed) {
     k += 0.5 * c.m[i] * c.v[i].squaredNorm();
   }
   const double f = std::sqrt(0.5 * dim * static_cast<double>(n) / k);
-  for (auto& v : c.v) v *= f;
+  for (auto& v : c.v)
+    v *= f;
 }
 
 /// FCC lattice of nc^3 conventional cells (4 nc^3 unit-diameter spheres) at solid fraction phi.
@@ -72,7 +74,8 @@ Config<2> square(int nc, double phi, std::uint64_t seed) {
   const double a = l / nc;
   c.box = Vec<2>::Constant(l);
   for (int i = 0; i < nc; ++i)
-    for (int j = 0; j < nc; ++j) c.x.push_back(a * Vec<2>(i + 0.5, j + 0.5));
+    for (int j = 0; j < nc; ++j)
+      c.x.push_back(a * Vec<2>(i + 0.5, j + 0.5));
   c.r.assign(c.x.size(), 0.5);
   c.m.assign(c.x.size(), 1.0);
   thermalise(c, seed);
@@ -85,7 +88,8 @@ template <int dim> HardSphereMD<dim> make(const Config<dim>& c) {
 
 template <int dim> double momentum_scale(const HardSphereMD<dim>& md) {
   double s = 0;
-  for (std::size_t i = 0; i < md.size(); ++i) s += md.masses()[i] * md.velocities()[i].norm();
+  for (std::size_t i = 0; i < md.size(); ++i)
+    s += md.masses()[i] * md.velocities()[i].norm();
   return s;
 }
 
@@ -185,7 +189,8 @@ TEST(HardSphereMD, LubachevskyStillingerGrowthStopsExactlyAtTarget) {
   // Radii grew by (0.55/0.45)^(1/3) at relative rate 0.05 per unit time.
   const double g = std::cbrt(0.55 / 0.45);
   EXPECT_NEAR(md.time() - t0, (g - 1) / 0.05, 1e-9);
-  for (double r : md.radii()) EXPECT_NEAR(r, 0.5 * g, 1e-14);
+  for (double r : md.radii())
+    EXPECT_NEAR(r, 0.5 * g, 1e-14);
   EXPECT_GT(md.collisions() - c0, n);
   // The grid was rebuilt coarser as the diameters outgrew the cells.
   EXPECT_LT(md.cells_per_axis()[0], cells_before[0]);
@@ -247,7 +252,7 @@ TEST(HardSphereMD, GrowthInPiecesAndSavedStatesContinueBitForBit) {
 TEST(HardSphereMD, RestoreRefusesWhatIsNotASavedState) {
   auto md = make(square(8, 0.4, 2));
   auto bytes = md.save_state();
-  EXPECT_THROW(HardSphereMD<3>::restore_state(bytes), Error);  // another dimension
+  EXPECT_THROW(HardSphereMD<3>::restore_state(bytes), Error); // another dimension
   auto cut = bytes;
   cut.resize(cut.size() / 2);
   EXPECT_THROW(HardSphereMD<2>::restore_state(cut), Error);
@@ -258,10 +263,10 @@ TEST(HardSphereMD, RestoreRefusesWhatIsNotASavedState) {
 }
 
 TEST(HardSphereMD, GrowRejectsImpossibleTargets) {
-  auto md = make(fcc(2, 0.3, 7)); // 32 spheres, box 3.8 diameters
-  EXPECT_THROW(md.grow(0.2, 0.1), Error);   // shrinking
-  EXPECT_THROW(md.grow(0.5, -1.0), Error);  // bad rate
-  EXPECT_THROW(md.grow(2.5, 0.1), Error);   // diameters would not fit twice in the box
+  auto md = make(fcc(2, 0.3, 7));          // 32 spheres, box 3.8 diameters
+  EXPECT_THROW(md.grow(0.2, 0.1), Error);  // shrinking
+  EXPECT_THROW(md.grow(0.5, -1.0), Error); // bad rate
+  EXPECT_THROW(md.grow(2.5, 0.1), Error);  // diameters would not fit twice in the box
 }
 
 TEST(HardSphereMD, GrowthThrowsWhenItJamsBelowTheTarget) {
@@ -314,10 +319,12 @@ TEST(HardSphereMD, SmallBoxFallsBackToAllPairs) {
       bool ok = true;
       for (const auto& y : c.x) {
         Vec<3> d = x - y;
-        for (int a = 0; a < 3; ++a) d[a] -= box[a] * std::round(d[a] / box[a]);
+        for (int a = 0; a < 3; ++a)
+          d[a] -= box[a] * std::round(d[a] / box[a]);
         ok = ok && d.norm() > 1.0;
       }
-      if (ok) c.x.push_back(x);
+      if (ok)
+        c.x.push_back(x);
     }
     c.r.assign(c.x.size(), 0.5);
     c.m.assign(c.x.size(), 1.0);
@@ -325,8 +332,10 @@ TEST(HardSphereMD, SmallBoxFallsBackToAllPairs) {
     auto md = make(c);
     const auto cells = md.cells_per_axis();
     EXPECT_EQ(cells[2], 1);
-    if (slab) EXPECT_GE(cells[0], 4);
-    else EXPECT_EQ(cells[0], 1);
+    if (slab)
+      EXPECT_GE(cells[0], 4);
+    else
+      EXPECT_EQ(cells[0], 1);
     const double k0 = md.kinetic_energy();
     for (int k = 0; k < 10; ++k) {
       md.run_collisions(1000);
@@ -370,8 +379,12 @@ template <int dim> void head_on_collision() {
   EXPECT_NEAR(mm.pressure(), (2 * 2.0 + 1.0 * 3.0) / (dim * box.prod()), 1e-12);
 }
 
-TEST(HardSphereMD, TwoBodyHeadOnCollision3D) { head_on_collision<3>(); }
-TEST(HardSphereMD, TwoBodyHeadOnCollision2D) { head_on_collision<2>(); }
+TEST(HardSphereMD, TwoBodyHeadOnCollision3D) {
+  head_on_collision<3>();
+}
+TEST(HardSphereMD, TwoBodyHeadOnCollision2D) {
+  head_on_collision<2>();
+}
 
 TEST(HardSphereMD, GrowingPairCollidesWhenContactDistanceReachesSeparation) {
   // Two spheres of radius 0.5 at distance 2, moving together (no relative velocity): with
@@ -399,16 +412,16 @@ TEST(HardSphereMD, GrowingPairCollidesWhenContactDistanceReachesSeparation) {
     EXPECT_NEAR(md.velocities()[0][1], 0.3, 1e-14);
     // Contact at t = 1/rate = 2; the growth stops at g = 2.0001, t = 1.0001 / rate.
     EXPECT_NEAR(md.time(), 1.0001 / rate, 1e-12);
-    EXPECT_NEAR(md.positions()[1][0] - md.positions()[0][0], 
-                2 + 2 * rate * (1.0001 - 1.0) / rate, 1e-12);
+    EXPECT_NEAR(md.positions()[1][0] - md.positions()[0][0], 2 + 2 * rate * (1.0001 - 1.0) / rate,
+                1e-12);
   }
 }
 
 TEST(HardSphereMD, RejectsOverlapButAcceptsTouching) {
   Vec<3> box = Vec<3>::Constant(10.0);
   const Vec<3> v1(1, 0, 0), v2(-1, 0, 0);
-  EXPECT_THROW(HardSphereMD<3>(box, {Vec<3>(2, 5, 5), Vec<3>(2.999, 5, 5)}, {0.5, 0.5},
-                               {1.0, 1.0}, {v1, v2}),
+  EXPECT_THROW(HardSphereMD<3>(box, {Vec<3>(2, 5, 5), Vec<3>(2.999, 5, 5)}, {0.5, 0.5}, {1.0, 1.0},
+                               {v1, v2}),
                Error);
   EXPECT_THROW(HardSphereMD<3>(Vec<3>::Constant(1.9), {Vec<3>(0, 0, 0)}, {0.5}, {1.0}, {v1}),
                Error);
@@ -430,8 +443,7 @@ TEST(HardSphereMD, ThroughputAt045) {
   const std::int64_t runs = 250 * n;
   const auto start = std::chrono::steady_clock::now();
   md.run_collisions(runs);
-  const double s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("[          ] %lld collisions of %lld spheres in %.3f s: %.3g collisions/s\n",
               static_cast<long long>(runs), static_cast<long long>(n), s,
               static_cast<double>(runs) / s);

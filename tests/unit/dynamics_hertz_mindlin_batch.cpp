@@ -17,7 +17,7 @@ using namespace granpack;
 
 namespace {
 
-constexpr double kRho = 2500, kA = 1e-3;  // glass, a = 1 mm
+constexpr double kRho = 2500, kA = 1e-3; // glass, a = 1 mm
 const double kInf = std::numeric_limits<double>::infinity();
 
 ContactLawParams hertz_params(double mu, double zeta, bool walton = true) {
@@ -43,13 +43,15 @@ ContactLawParams linear_params(double mu, double zeta) {
 
 /// One contact as both kernels see it.
 struct Case {
-  Vec<3> r;  // r_ij
+  Vec<3> r; // r_ij
   double ri, rj, mi, mj;
-  ContactKinematics<3> kin;  // v_i = 0, v_j = v_j - v_i
+  ContactKinematics<3> kin; // v_i = 0, v_j = v_j - v_i
   ContactState<3> state;
 };
 
-double sphere_mass(double r) { return kRho * 4.0 / 3.0 * M_PI * r * r * r; }
+double sphere_mass(double r) {
+  return kRho * 4.0 / 3.0 * M_PI * r * r * r;
+}
 
 /// Contacts of a dense packing under MD: polydisperse radii, overlaps 1e-6..1e-3 of a,
 /// velocities ~1 mm/s, spins ~1 rad/s, stored N^e within 1e-4 (relative) of the current one
@@ -74,7 +76,7 @@ std::vector<Case> dense_cases(const ContactLaw<3>& law, std::mt19937_64& rng, in
     const auto geo = make_pair_geometry<3>(k.ri, k.rj, k.mi, k.mj, k.r);
     const double n_now = normal_response(law.normal, h, geo.effective_radius).force;
     const int kind = c % 4;
-    if (kind == 0) {  // new contact
+    if (kind == 0) { // new contact
       k.state = ContactState<3>{};
     } else {
       k.state.normal_force = n_now * (1 + 1e-4 * (2 * u(rng) - 1));
@@ -92,13 +94,24 @@ std::vector<Case> dense_cases(const ContactLaw<3>& law, std::mt19937_64& rng, in
 
 void fill(HertzMindlinBatch& b, const std::vector<Case>& cases) {
   for (std::size_t l = 0; l < HertzMindlinBatch::kCapacity; ++l) {
-    const Case& k = cases[std::min(l, cases.size() - 1)];  // padding: copies of the last
-    b.rx[l] = k.r[0]; b.ry[l] = k.r[1]; b.rz[l] = k.r[2];
-    b.rad_i[l] = k.ri; b.rad_j[l] = k.rj; b.mass_i[l] = k.mi; b.mass_j[l] = k.mj;
+    const Case& k = cases[std::min(l, cases.size() - 1)]; // padding: copies of the last
+    b.rx[l] = k.r[0];
+    b.ry[l] = k.r[1];
+    b.rz[l] = k.r[2];
+    b.rad_i[l] = k.ri;
+    b.rad_j[l] = k.rj;
+    b.mass_i[l] = k.mi;
+    b.mass_j[l] = k.mj;
     const Vec<3> v = k.kin.v_j - k.kin.v_i;
-    b.vx[l] = v[0]; b.vy[l] = v[1]; b.vz[l] = v[2];
-    b.wix[l] = k.kin.w_i[0]; b.wiy[l] = k.kin.w_i[1]; b.wiz[l] = k.kin.w_i[2];
-    b.wjx[l] = k.kin.w_j[0]; b.wjy[l] = k.kin.w_j[1]; b.wjz[l] = k.kin.w_j[2];
+    b.vx[l] = v[0];
+    b.vy[l] = v[1];
+    b.vz[l] = v[2];
+    b.wix[l] = k.kin.w_i[0];
+    b.wiy[l] = k.kin.w_i[1];
+    b.wiz[l] = k.kin.w_i[2];
+    b.wjx[l] = k.kin.w_j[0];
+    b.wjy[l] = k.kin.w_j[1];
+    b.wjz[l] = k.kin.w_j[2];
     b.tx[l] = k.state.tangential_force[0];
     b.ty[l] = k.state.tangential_force[1];
     b.tz[l] = k.state.tangential_force[2];
@@ -127,7 +140,8 @@ int compare(const ContactLaw<3>& law, const std::vector<Case>& cases, double dt)
       continue;
     }
     EXPECT_TRUE(f.active);
-    if (!f.active) continue;
+    if (!f.active)
+      continue;
     // Conditioning: h = R_i + R_j - |r| loses the digits of |r| it cancels (fused multiply-
     // adds in one kernel and not in the other round |r| differently), an error of a few
     // ulps of |r| that N^e ~ h^{3/2} carries as 1.5 (|r|/h) eps relative; beyond that the
@@ -173,14 +187,14 @@ int compare(const ContactLaw<3>& law, const std::vector<Case>& cases, double dt)
   return flagged;
 }
 
-}  // namespace
+} // namespace
 
 TEST(HertzMindlinBatch, MatchesScalarLawOnDenseContacts) {
   std::mt19937_64 rng(42);
   const double dt = 1e-7;
-  for (const auto& p : {hertz_params(0.3, 0.98), hertz_params(0.3, 0.0), hertz_params(kInf, 0.5),
-                        hertz_params(0.0, 0.98), hertz_params(0.3, 0.98, false),
-                        linear_params(0.5, 0.3)}) {
+  for (const auto& p :
+       {hertz_params(0.3, 0.98), hertz_params(0.3, 0.0), hertz_params(kInf, 0.5),
+        hertz_params(0.0, 0.98), hertz_params(0.3, 0.98, false), linear_params(0.5, 0.3)}) {
     const ContactLaw<3> law = make_contact_law<3>(p);
     int flagged = 0, total = 0;
     for (int batch = 0; batch < 20; ++batch) {
@@ -205,25 +219,27 @@ TEST(HertzMindlinBatch, SlidingContactsStayOnTheCone) {
   evaluate(*HertzMindlinConstants::of(law), *b, cases.size(), 1e-7, sums);
   int sliding = 0;
   for (std::size_t l = 0; l < cases.size(); ++l) {
-    if (!b->sliding[l]) continue;
+    if (!b->sliding[l])
+      continue;
     ++sliding;
     const double t = std::hypot(b->tx[l], b->ty[l], b->tz[l]);
     EXPECT_NEAR(t, 0.3 * b->n_old[l], 1e-14 * b->n_old[l]);
   }
-  EXPECT_GE(sliding, 32);  // every fourth case starts beyond the cone
+  EXPECT_GE(sliding, 32); // every fourth case starts beyond the cone
 }
 
 TEST(HertzMindlinBatch, FlagsContactsOffItsPath) {
   const ContactLaw<3> law = make_contact_law<3>(hertz_params(0.3, 0.98));
   std::mt19937_64 rng(3);
   auto cases = dense_cases(law, rng, 8);
-  for (auto& k : cases) k.state.age = 10;
+  for (auto& k : cases)
+    k.state.age = 10;
   // 0: not overlapping; 1: a contact turning by 1e-2 rad in the step; 2: N^e halves in the
   // step (Walton's ratio outside its series); 3: N^e grows by a factor of 2 (no rescaling:
   // on the path); 4: a large angle but no stored T (nothing to transport: on the path);
   // 5: N^e halves but no stored T (nothing to rescale: on the path).
   cases[0].r *= (cases[0].ri + cases[0].rj + 1e-9) / cases[0].r.norm();
-  for (const int l : {1, 4}) {  // spinning about n: pivoting 0.5 dt (w_i + w_j).n = 1e-2 rad
+  for (const int l : {1, 4}) { // spinning about n: pivoting 0.5 dt (w_i + w_j).n = 1e-2 rad
     const Vec<3> n = cases[l].r.normalized();
     cases[l].kin.w_i = Vec<3>::Zero();
     cases[l].kin.w_j = 1e5 * n;
@@ -234,7 +250,7 @@ TEST(HertzMindlinBatch, FlagsContactsOffItsPath) {
     const auto geo = make_pair_geometry<3>(k.ri, k.rj, k.mi, k.mj, k.r);
     return normal_response(law.normal, geo.overlap, geo.effective_radius).force;
   };
-  cases[2].state.normal_force = 2 * n_of(cases[2]);  // (case 2 carries a T: kind 2)
+  cases[2].state.normal_force = 2 * n_of(cases[2]); // (case 2 carries a T: kind 2)
   cases[5].state.normal_force = 2 * n_of(cases[5]);
   cases[5].state.tangential_force = Vec<3>::Zero();
   cases[3].state.normal_force = 0.5 * n_of(cases[3]);
@@ -242,13 +258,14 @@ TEST(HertzMindlinBatch, FlagsContactsOffItsPath) {
   fill(*b, cases);
   HertzMindlinSums sums;
   evaluate(*HertzMindlinConstants::of(law), *b, cases.size(), 2e-7, sums);
-  EXPECT_EQ(sums.contacts, 5);  // the flagged lanes are left to the scalar law
+  EXPECT_EQ(sums.contacts, 5); // the flagged lanes are left to the scalar law
   EXPECT_EQ(b->exact[0], 1);
   EXPECT_EQ(b->exact[1], 1);
   EXPECT_EQ(b->exact[2], 1);
   EXPECT_EQ(b->exact[3], 0);
   EXPECT_EQ(b->exact[4], 0);
-  for (int l = 5; l < 8; ++l) EXPECT_EQ(b->exact[l], 0) << l;
+  for (int l = 5; l < 8; ++l)
+    EXPECT_EQ(b->exact[l], 0) << l;
 }
 
 TEST(HertzMindlinBatch, RefusesLawsItDoesNotEvaluate) {

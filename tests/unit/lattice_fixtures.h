@@ -20,4 +20,4 @@ inline std::vector<Vec<2>> triangular_lattice(int nx, int ny, Cell<2>& cell) {
   return s;
 }
 
-}  // namespace granpack::test
+} // namespace granpack::test

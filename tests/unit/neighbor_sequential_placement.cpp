@@ -33,12 +33,14 @@ template <int dim> std::pair<std::vector<double>, double> sample(std::size_t n, 
 
 /// Surface gap of every pair (nearest image), in the units of the diameters.
 template <int dim>
-std::vector<double> pair_gaps(const std::vector<Vec<dim>>& s, const std::vector<double>& d, double side) {
+std::vector<double> pair_gaps(const std::vector<Vec<dim>>& s, const std::vector<double>& d,
+                              double side) {
   std::vector<double> g;
   for (std::size_t i = 0; i < s.size(); ++i)
     for (std::size_t j = i + 1; j < s.size(); ++j) {
       Vec<dim> r = s[j] - s[i];
-      for (int a = 0; a < dim; ++a) r[a] -= std::round(r[a]);
+      for (int a = 0; a < dim; ++a)
+        r[a] -= std::round(r[a]);
       g.push_back(r.norm() * side - 0.5 * (d[i] + d[j]));
     }
   return g;
@@ -84,7 +86,8 @@ TYPED_TEST(SequentialPlacementTest, TheSameSeedGivesTheSamePlacement) {
   const auto sa = place_sequentially<dim>(d, side, a);
   const auto sb = place_sequentially<dim>(d, side, b);
   const auto sc = place_sequentially<dim>(d, side, c);
-  for (std::size_t i = 0; i < d.size(); ++i) EXPECT_EQ(sa[i], sb[i]);
+  for (std::size_t i = 0; i < d.size(); ++i)
+    EXPECT_EQ(sa[i], sb[i]);
   EXPECT_NE(sa[0], sc[0]);
 }
 
@@ -100,7 +103,7 @@ TYPED_TEST(SequentialPlacementTest, SmallCellsWithFewerThanThreeGridCellsStillSe
 
 TYPED_TEST(SequentialPlacementTest, NoRoomIsAnErrorNamingTheGrain) {
   constexpr int dim = TypeParam::value;
-  auto [d, side] = sample<dim>(300, 0.8);  // beyond any random packing
+  auto [d, side] = sample<dim>(300, 0.8); // beyond any random packing
   std::mt19937_64 rng(4);
   try {
     place_sequentially<dim>(d, side, rng, 2000);
@@ -112,5 +115,5 @@ TYPED_TEST(SequentialPlacementTest, NoRoomIsAnErrorNamingTheGrain) {
   }
 }
 
-}  // namespace
-}  // namespace granpack
+} // namespace
+} // namespace granpack

@@ -18,9 +18,9 @@ namespace {
 /// Which contact: [GRC]'s parts are 2D (rolling rows) or any dimension (cohesion).
 struct Case {
   bool friction = true;
-  bool cohesion = false;  ///< F0 = 50 N (half the Hertz force here), D0 = 1e-5 m
-  bool rolling = false;   ///< K_r = 1e-3 N m, reference moment 2e-6 N m
-  bool distant = false;   ///< the pair 0.4 D0 apart instead of overlapping by h
+  bool cohesion = false; ///< F0 = 50 N (half the Hertz force here), D0 = 1e-5 m
+  bool rolling = false;  ///< K_r = 1e-3 N m, reference moment 2e-6 N m
+  bool distant = false;  ///< the pair 0.4 D0 apart instead of overlapping by h
 };
 
 template <int dim> struct Fixture {
@@ -37,18 +37,25 @@ template <int dim> struct Fixture {
     p.young_modulus = 70e9;
     p.poisson_ratio = 0.3;
     p.friction = k.friction ? 0.3 : 0.0;
-    if (k.cohesion) p.cohesion_force = 50.0, p.cohesion_range = 1e-5;
-    if (k.rolling) p.rolling_stiffness = 1e-3, p.rolling_friction = 1e-5;
+    if (k.cohesion)
+      p.cohesion_force = 50.0, p.cohesion_range = 1e-5;
+    if (k.rolling)
+      p.rolling_stiffness = 1e-3, p.rolling_friction = 1e-5;
     law = make_contact_law<dim>(p);
     layout.rotations = k.friction;
     layout.rolling = k.rolling;
     layout.ell = 0.5e-3;
-    for (int a = 0; a < dim; ++a) layout.cell[a] = 0.01 + 0.001 * a;
+    for (int a = 0; a < dim; ++a)
+      layout.cell[a] = 0.01 + 0.001 * a;
     Vec<dim> dir;
-    if constexpr (dim == 3) dir = Vec<3>(0.3, -0.5, 0.8); else dir = Vec<2>(0.6, -0.35);
-    const double h = k.distant ? -0.4e-5 : 2e-5;  // h/R ~ 4e-2: K(2) is a few per cent of K(1)
+    if constexpr (dim == 3)
+      dir = Vec<3>(0.3, -0.5, 0.8);
+    else
+      dir = Vec<2>(0.6, -0.35);
+    const double h = k.distant ? -0.4e-5 : 2e-5; // h/R ~ 4e-2: K(2) is a few per cent of K(1)
     r = dir.normalized() * (r_i + r_j - h);
-    c = at(r, Vec<dim>::Zero(), RotVec<dim>::Zero(), RotVec<dim>::Zero(), DynVector::Zero(layout.local_size()));
+    c = at(r, Vec<dim>::Zero(), RotVec<dim>::Zero(), RotVec<dim>::Zero(),
+           DynVector::Zero(layout.local_size()));
   }
 
   /// The contact after the motion x from the reference state (first order in x exact).
@@ -58,17 +65,20 @@ template <int dim> struct Fixture {
     out.geometry = make_pair_geometry<dim>(r_i, r_j, 1.0, 1.0, r_new);
     ContactState<dim> st;
     out.stiffness = law.stiffness(out.geometry, st);
-    if (kind.distant) {  // N^a only, whatever the friction
+    if (kind.distant) { // N^a only, whatever the friction
       out.distant = true;
       out.normal_force = law.cohesion->force(out.geometry.overlap);
       return out;
     }
-    const NormalResponse nr = normal_response(law.normal, out.geometry.overlap, out.geometry.effective_radius);
+    const NormalResponse nr =
+        normal_response(law.normal, out.geometry.overlap, out.geometry.effective_radius);
     out.normal_force = nr.force + (law.cohesion ? law.cohesion->force(out.geometry.overlap) : 0.0);
-    if (!layout.rotations) return out;
+    if (!layout.rotations)
+      return out;
     // Rolling: Γ^r on j = Γ0 - K_r (θ_j - θ_i) (eq. 9 with the sign of rolling_resistance.h).
-    if (layout.rolling) out.rolling_moment = RotVec<dim>::Constant(2e-6) - law.rolling->k_r * (th_j - th_i);
-    if (x.isZero(0)) {  // the reference tangential force: 0.2 N along a tangent
+    if (layout.rolling)
+      out.rolling_moment = RotVec<dim>::Constant(2e-6) - law.rolling->k_r * (th_j - th_i);
+    if (x.isZero(0)) { // the reference tangential force: 0.2 N along a tangent
       Vec<dim> t = Vec<dim>::Zero();
       t[0] = 1.0;
       const Vec<dim>& n = out.geometry.normal;
@@ -98,7 +108,8 @@ template <int dim> struct Fixture {
       th_j = x.template segment<rot_dim<dim>>(g + dim) / layout.ell;
     }
     Vec<dim> w = u_j - u_i;
-    for (int a = 0; a < dim; ++a) w[a] -= x[e + a] / layout.cell[a] * r[a];
+    for (int a = 0; a < dim; ++a)
+      w[a] -= x[e + a] / layout.cell[a] * r[a];
     return contact_loads(at(r + w, w, th_i, th_j, x), layout);
   }
 };
@@ -117,7 +128,9 @@ template <int dim> void check_derivative(const Case& kind) {
     fd.col(col) = (f.loads(x) - f.loads(-x)) / (2 * step);
   }
   const double scale = k1.cwiseAbs().maxCoeff();
-  EXPECT_LT((fd - k).cwiseAbs().maxCoeff(), 1e-6 * scale) << "finite differences\n" << fd << "\nK\n" << k;
+  EXPECT_LT((fd - k).cwiseAbs().maxCoeff(), 1e-6 * scale) << "finite differences\n"
+                                                          << fd << "\nK\n"
+                                                          << k;
   // The geometric part is resolved: without it the difference is much larger.
   EXPECT_GT((fd - k1).cwiseAbs().maxCoeff(), 1e-3 * scale);
   EXPECT_LT((k1 - k1.transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
@@ -130,16 +143,32 @@ template <int dim> void check_derivative(const Case& kind) {
   }
 }
 
-}  // namespace
+} // namespace
 
-TEST(RigidityBlocks, Derivative3DFriction) { check_derivative<3>(Case{true}); }
-TEST(RigidityBlocks, Derivative3DFrictionless) { check_derivative<3>(Case{false}); }
-TEST(RigidityBlocks, Derivative2DFriction) { check_derivative<2>(Case{true}); }
-TEST(RigidityBlocks, Derivative2DFrictionless) { check_derivative<2>(Case{false}); }
-TEST(RigidityBlocks, Derivative2DCohesiveRolling) { check_derivative<2>(Case{true, true, true, false}); }
-TEST(RigidityBlocks, Derivative2DCohesiveFrictionless) { check_derivative<2>(Case{false, true, false, false}); }
-TEST(RigidityBlocks, Derivative2DDistantPair) { check_derivative<2>(Case{true, true, true, true}); }
-TEST(RigidityBlocks, Derivative3DDistantPair) { check_derivative<3>(Case{true, true, false, true}); }
+TEST(RigidityBlocks, Derivative3DFriction) {
+  check_derivative<3>(Case{true});
+}
+TEST(RigidityBlocks, Derivative3DFrictionless) {
+  check_derivative<3>(Case{false});
+}
+TEST(RigidityBlocks, Derivative2DFriction) {
+  check_derivative<2>(Case{true});
+}
+TEST(RigidityBlocks, Derivative2DFrictionless) {
+  check_derivative<2>(Case{false});
+}
+TEST(RigidityBlocks, Derivative2DCohesiveRolling) {
+  check_derivative<2>(Case{true, true, true, false});
+}
+TEST(RigidityBlocks, Derivative2DCohesiveFrictionless) {
+  check_derivative<2>(Case{false, true, false, false});
+}
+TEST(RigidityBlocks, Derivative2DDistantPair) {
+  check_derivative<2>(Case{true, true, true, true});
+}
+TEST(RigidityBlocks, Derivative3DDistantPair) {
+  check_derivative<3>(Case{true, true, false, true});
+}
 
 TEST(RigidityBlocks, CohesiveRowsAndForces) {
   // In contact with rolling resistance: 3 rows (δu, then ρ_i - ρ_j), f = (N n + T, Γ / ell)
@@ -147,10 +176,11 @@ TEST(RigidityBlocks, CohesiveRowsAndForces) {
   Fixture<2> f(Case{true, true, true, false});
   const DynMatrix rows = rigidity_rows(f.c, f.layout);
   ASSERT_EQ(rows.rows(), 3);
-  EXPECT_EQ(rows(2, 2), 1.0);   // ρ_i
-  EXPECT_EQ(rows(2, 5), -1.0);  // ρ_j
+  EXPECT_EQ(rows(2, 2), 1.0);  // ρ_i
+  EXPECT_EQ(rows(2, 5), -1.0); // ρ_j
   EXPECT_EQ(rows.row(2).cwiseAbs().sum(), 2.0);
-  const NormalResponse nr = normal_response(f.law.normal, f.c.geometry.overlap, f.c.geometry.effective_radius);
+  const NormalResponse nr =
+      normal_response(f.law.normal, f.c.geometry.overlap, f.c.geometry.effective_radius);
   EXPECT_NEAR(f.c.normal_force, nr.force - 50.0, 1e-12 * nr.force);
   const DynVector force = contact_force_vector(f.c, f.layout);
   EXPECT_NEAR(force[2], 2e-6 / f.layout.ell, 1e-18);
@@ -171,7 +201,8 @@ TEST(RigidityBlocks, LoadsAreTransposedRigidityTimesForces) {
   // F on u_i, -F on u_j, b x F / ell on the rotations, F_a r_a / L_a on the strains.
   EXPECT_LT((loads.segment<3>(0) - force).norm(), 1e-12 * force.norm());
   EXPECT_LT((loads.segment<3>(6) + force).norm(), 1e-12 * force.norm());
-  EXPECT_LT((loads.segment<3>(3) - f.c.geometry.branch_i().cross(force) / f.layout.ell).norm(), 1e-12 * force.norm());
+  EXPECT_LT((loads.segment<3>(3) - f.c.geometry.branch_i().cross(force) / f.layout.ell).norm(),
+            1e-12 * force.norm());
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(loads[12 + a], force[a] * f.r[a] / f.layout.cell[a], 1e-12 * force.norm());
 }
@@ -183,8 +214,10 @@ TEST(RigidityBlocks, DivalentRollingModeIsNull) {
   l.ell = 0.5e-3;
   const double radius = 0.5e-3, h = 1e-6;
   RigidityContact<3> a, b;
-  a.geometry = make_pair_geometry<3>(radius, radius, 1, 1, Vec<3>(0.2, 0.9, 0.1).normalized() * (2 * radius - h));
-  b.geometry = make_pair_geometry<3>(radius, radius, 1, 1, Vec<3>(-0.7, 0.2, -0.4).normalized() * (2 * radius - 2 * h));
+  a.geometry = make_pair_geometry<3>(radius, radius, 1, 1,
+                                     Vec<3>(0.2, 0.9, 0.1).normalized() * (2 * radius - h));
+  b.geometry = make_pair_geometry<3>(radius, radius, 1, 1,
+                                     Vec<3>(-0.7, 0.2, -0.4).normalized() * (2 * radius - 2 * h));
   const auto v = divalent_rolling_mode(a.geometry.branch_i(), b.geometry.branch_i(), l.ell);
   DynVector x = DynVector::Zero(l.local_size());
   x.head<6>() = v;

@@ -118,7 +118,7 @@ std::vector<GlobalId> crystalline_neighbors(const BondNeighborhood& grain, const
 struct GlobalQlSum {
   int l = 6;
   QlmVector sum_y;          ///< sum over bonds of Y_lm(n_ij), m = -l..l (2(2l+1) doubles)
-  std::int64_t n_bonds = 0;  ///< number of (directed) bonds summed
+  std::int64_t n_bonds = 0; ///< number of (directed) bonds summed
 
   explicit GlobalQlSum(int l_ = 6);
   /// Adds the bonds of one grain: N_b(i) q^_lm(i).
@@ -130,13 +130,13 @@ struct GlobalQlSum {
 
 /// Stage 3: everything table II needs, summed over grains; all-reduce or merge() then read.
 struct BondOrderTally {
-  std::int64_t n_grains = 0;              ///< grains added
-  std::int64_t n_grains_with_bonds = 0;   ///< of which with N_b >= 1 (Q_6^loc defined)
-  std::int64_t n_bonds = 0;               ///< sum of N_b(i) (each bond twice)
-  std::int64_t n_crystalline_bonds = 0;   ///< sum of crystalline bonds per grain (each twice)
+  std::int64_t n_grains = 0;            ///< grains added
+  std::int64_t n_grains_with_bonds = 0; ///< of which with N_b >= 1 (Q_6^loc defined)
+  std::int64_t n_bonds = 0;             ///< sum of N_b(i) (each bond twice)
+  std::int64_t n_crystalline_bonds = 0; ///< sum of crystalline bonds per grain (each twice)
   std::int64_t n_crystalline_grains = 0;
-  double sum_q6_loc = 0;                  ///< sum of Q_6^loc(i) over grains with bonds
-  double sum_q6_loc_crystalline = 0;      ///< sum of Q_6^loc(i) over crystalline grains
+  double sum_q6_loc = 0;             ///< sum of Q_6^loc(i) over grains with bonds
+  double sum_q6_loc_crystalline = 0; ///< sum of Q_6^loc(i) over crystalline grains
   GlobalQlSum global_q6{6};
 
   /// Adds one grain: its l = 6 local order and number of crystalline bonds.
@@ -150,12 +150,12 @@ struct BondOrderTally {
   std::vector<double> packed() const;
   static BondOrderTally unpacked(std::span<const double> sums);
 
-  double z() const;            ///< Z: mean bonds per grain
-  double z_cr() const;         ///< Z_cr: mean crystalline bonds per grain
+  double z() const;                                      ///< Z: mean bonds per grain
+  double z_cr() const;                                   ///< Z_cr: mean crystalline bonds per grain
   double q6_global() const { return global_q6.value(); } ///< Q_6
-  double q6_loc() const;       ///< <Q_6^loc> over grains with bonds
-  double q6_loc_cr() const;    ///< <Q_6^loc> over crystalline grains (0 if none)
-  double x_cr() const;         ///< fraction of crystalline grains
+  double q6_loc() const;                                 ///< <Q_6^loc> over grains with bonds
+  double q6_loc_cr() const; ///< <Q_6^loc> over crystalline grains (0 if none)
+  double x_cr() const;      ///< fraction of crystalline grains
 };
 
 /// Stage 4: connected components ("crystalline clusters") of the crystalline grains linked by
@@ -190,8 +190,8 @@ struct OrderWindow {
   double q4 = 0, q6 = 0;    ///< centre (Q^4, Q^6)
   double half_width = 0.05; ///< on both axes
   AsteSample sample = AsteSample::any;
-  double d_c_over_a = 0;    ///< d_c of the "dis" centre; 0 for fcc/hcp (any d_c)
-  std::string_view source;  ///< where the numbers are printed in [AR]
+  double d_c_over_a = 0;   ///< d_c of the "dis" centre; 0 for fcc/hcp (any d_c)
+  std::string_view source; ///< where the numbers are printed in [AR]
   /// Closed window: |Q4 - q4| <= half_width and |Q6 - q6| <= half_width.
   bool contains(double Q4, double Q6) const;
 };
@@ -217,14 +217,14 @@ std::vector<std::size_t> windows_containing(double Q4, double Q6,
 /// Serial, all-in-one: every grain's bonds in a periodic orthorhombic cell (real positions,
 /// any image; ids = indices), then stages 1-4. For tests and small samples.
 struct BondOrderParams {
-  double d_c = 1.4;                 ///< bond distance (real units), < half the smallest cell length
-  double threshold = 0.5;           ///< eq. (34)
-  int min_crystalline_bonds = 7;    ///< "at least 7 of its bonds"
+  double d_c = 1.4;              ///< bond distance (real units), < half the smallest cell length
+  double threshold = 0.5;        ///< eq. (34)
+  int min_crystalline_bonds = 7; ///< "at least 7 of its bonds"
 };
 struct GrainBondOrder {
   GlobalId id = 0;
   int n_bonds = 0;
-  double q4 = 0, q6 = 0;            ///< Q_4^loc(i), Q_6^loc(i)
+  double q4 = 0, q6 = 0; ///< Q_4^loc(i), Q_6^loc(i)
   int n_crystalline_bonds = 0;
   bool crystalline = false;
 };
@@ -242,4 +242,4 @@ std::vector<BondNeighborhood> periodic_neighborhoods(const std::vector<Vec<3>>& 
 BondOrderResult bond_order_periodic(const std::vector<Vec<3>>& real_positions,
                                     const Vec<3>& lengths, const BondOrderParams& params);
 
-}  // namespace granpack
+} // namespace granpack

@@ -23,8 +23,7 @@ struct CarryingContact {
 /// Adds, for every contact between two grains not flagged as rattlers, one to the count of
 /// each end. `counts` and `rattler` are indexed by local particle index (owned + ghosts).
 void count_backbone_contacts(const std::vector<CarryingContact>& contacts,
-                             const std::vector<std::uint8_t>& rattler,
-                             std::vector<double>& counts);
+                             const std::vector<std::uint8_t>& rattler, std::vector<double>& counts);
 
 /// Flags owned grains [0, n_owned) with counts < min_contacts as rattlers; returns how many
 /// grains were newly flagged.
@@ -39,4 +38,4 @@ std::vector<std::int64_t> coordination_histogram(std::size_t n_owned,
 /// Sum of N^alpha over the contacts (for the moments Z(alpha) = <N^alpha>/<N>^alpha, eq. 27).
 double sum_force_power(const std::vector<CarryingContact>& contacts, double alpha);
 
-}  // namespace granpack
+} // namespace granpack

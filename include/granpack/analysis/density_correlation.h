@@ -25,13 +25,14 @@
 namespace granpack {
 
 struct Disk {
-  Vec<2> center;  ///< real coordinates (any image)
+  Vec<2> center; ///< real coordinates (any image)
   double radius = 0;
 };
 
 /// The solid indicator on an nx x ny periodic mesh of the cell [0, L1) x [0, L2): node (i, j)
 /// at ((i + 1/2) L1/nx, (j + 1/2) L2/ny), 1 inside a disk. Row-major, index i * ny + j.
-std::vector<std::uint8_t> rasterize_disks(std::span<const Disk> disks, const Vec<2>& L, int nx, int ny);
+std::vector<std::uint8_t> rasterize_disks(std::span<const Disk> disks, const Vec<2>& L, int nx,
+                                          int ny);
 
 struct ScatteringCurve {
   std::vector<double> k;       ///< bin centres (mean |k| of the bin's wave vectors), 1/m
@@ -45,9 +46,9 @@ ScatteringCurve scattering_function(const std::vector<std::uint8_t>& chi, const 
                                     int ny, double k_max, int bins);
 
 struct CorrelationCurve {
-  std::vector<double> r;       ///< bin centres (mean |r| of the bin's mesh vectors), m
-  std::vector<double> C;       ///< mean C(r) - Phi^2 in the bin (Phi of the mesh)
-  std::vector<double> count;   ///< mesh vectors in the bin
+  std::vector<double> r;     ///< bin centres (mean |r| of the bin's mesh vectors), m
+  std::vector<double> C;     ///< mean C(r) - Phi^2 in the bin (Phi of the mesh)
+  std::vector<double> count; ///< mesh vectors in the bin
 };
 
 /// I(k) as scattering_function and C(r) - Phi^2 (eq. 24 by the inverse FFT of |chi^(k)|^2) in
@@ -56,8 +57,8 @@ struct DensitySpectra {
   ScatteringCurve scattering;
   CorrelationCurve correlation;
 };
-DensitySpectra density_spectra(const std::vector<std::uint8_t>& chi, const Vec<2>& L, int nx, int ny,
-                               double k_max, int bins, double r_max, double r_bin);
+DensitySpectra density_spectra(const std::vector<std::uint8_t>& chi, const Vec<2>& L, int nx,
+                               int ny, double k_max, int bins, double r_max, double r_bin);
 
 /// Eq. (28) without its constant: amplitude * Gamma(d) (p^2+k^2)^(-d/2) P_(d-1)(p/s) * 2 pi,
 /// amplitude = Phi l^(2-d).
@@ -67,12 +68,12 @@ double legendre_p(double nu, double x);
 
 struct FractalFit {
   double d_f = 0, xi = 0, amplitude = 0, constant = 0;
-  double d_f_error = 0, xi_error = 0;  ///< from the covariance of the fit (residual scaled)
-  double length_l = 0;                 ///< l of eq. (27) from amplitude = Phi l^(2-d)
-  double rms_log_residual = 0;         ///< unweighted rms of the log residuals
-  double lo = 0, hi = 0;               ///< the window actually fitted (k or r of its end points)
+  double d_f_error = 0, xi_error = 0; ///< from the covariance of the fit (residual scaled)
+  double length_l = 0;                ///< l of eq. (27) from amplitude = Phi l^(2-d)
+  double rms_log_residual = 0;        ///< unweighted rms of the log residuals
+  double lo = 0, hi = 0;              ///< the window actually fitted (k or r of its end points)
   int points = 0;
-  bool converged = false;   ///< the minimiser stopped at a minimum (not on its evaluation limit)
+  bool converged = false; ///< the minimiser stopped at a minimum (not on its evaluation limit)
   /// d_F and xi are numbers with finite, non-zero errors: converged, a non-singular covariance,
   /// xi below the fit's xi_max. Otherwise `reason` says why and the values mean nothing.
   bool determined = false;
@@ -104,14 +105,15 @@ std::string fractal_regime_failure(const FractalFit& f, double a, double l_cell)
 
 struct HoleStatistics {
   std::int64_t holes = 0;
-  std::int64_t wrapping_holes = 0;    ///< holes that wrap around the periodic cell (excluded)
-  double weighted_mean_radius = 0;    ///< <R>_w of eq. (30) over the non-wrapping holes, m
+  std::int64_t wrapping_holes = 0; ///< holes that wrap around the periodic cell (excluded)
+  double weighted_mean_radius = 0; ///< <R>_w of eq. (30) over the non-wrapping holes, m
   double largest_radius = 0;
-  std::vector<double> radii, nodes;   ///< R_H (eq. 29) and N_H of every non-wrapping hole
+  std::vector<double> radii, nodes; ///< R_H (eq. 29) and N_H of every non-wrapping hole
 };
 
 /// Connected regions of chi = 0 (4-neighbour connectivity, periodic), their radius of gyration
 /// radius R_H = sqrt(2 <|x - x_c|^2>) (eq. 29, coordinates unwrapped across the boundary).
-HoleStatistics hole_statistics(const std::vector<std::uint8_t>& chi, const Vec<2>& L, int nx, int ny);
+HoleStatistics hole_statistics(const std::vector<std::uint8_t>& chi, const Vec<2>& L, int nx,
+                               int ny);
 
-}  // namespace granpack
+} // namespace granpack

@@ -16,7 +16,7 @@ inline ForceSign force_sign(double normal, double tolerance) {
 }
 
 struct ForceSignSums {
-  static constexpr int fields = 5;  ///< count, sum |N|, sum N^2, sum |T|, sum |T|^2
+  static constexpr int fields = 5; ///< count, sum |N|, sum N^2, sum |T|, sum |T|^2
   std::array<double, 3 * fields> sums{};
   void add(double normal, double tangential_magnitude, double tolerance);
 };
@@ -24,9 +24,9 @@ struct ForceSignSums {
 /// Means of one class over its interactions (NaN when the class is empty).
 struct ForceSignMeans {
   double count = 0;
-  double mean_normal = 0, rms_normal = 0;          ///< <|N|>, <N^2>^(1/2)
-  double mean_tangential = 0, rms_tangential = 0;  ///< <|T|>, <|T|^2>^(1/2)
+  double mean_normal = 0, rms_normal = 0;         ///< <|N|>, <N^2>^(1/2)
+  double mean_tangential = 0, rms_tangential = 0; ///< <|T|>, <|T|^2>^(1/2)
 };
 ForceSignMeans force_sign_means(const ForceSignSums& s, ForceSign c);
 
-}  // namespace granpack
+} // namespace granpack

@@ -33,9 +33,9 @@ template <int dim> struct PercolationEdge {
 };
 
 struct PercolationResult {
-  double threshold_any = 0;  ///< F_perc: first wrap in some direction (0: never wraps)
-  double threshold_all = 0;  ///< first time the wrapping vectors span every direction
-  std::int64_t edges_at_any = 0;  ///< interactions with |F| >= F_perc
+  double threshold_any = 0;      ///< F_perc: first wrap in some direction (0: never wraps)
+  double threshold_all = 0;      ///< first time the wrapping vectors span every direction
+  std::int64_t edges_at_any = 0; ///< interactions with |F| >= F_perc
 };
 
 /// Edges are sorted here by decreasing force (ties by (i, j)), so the result does not depend
@@ -65,4 +65,4 @@ inline double force_angle_degrees(double normal, double tangential_magnitude) {
 double rumpf_mean_force(double pressure, double z, double phi, double mean_d,
                         double mean_d_pow_dim);
 
-}  // namespace granpack
+} // namespace granpack

@@ -30,27 +30,28 @@ namespace granpack {
 
 /// Everything the blocks need about one contact.
 template <int dim> struct RigidityContact {
-  PairGeometry<dim> geometry;     ///< from r_ij and the radii (make_pair_geometry)
-  double normal_force = 0;        ///< static N = N^e + N^a (> 0: repulsive); N^e without cohesion
-  Vec<dim> tangential_force = Vec<dim>::Zero();  ///< T, on j, global frame (0 if frictionless)
-  RotVec<dim> rolling_moment = RotVec<dim>::Zero();  ///< Γ^r on j, elastic: -K_r δθ (2D, RR)
-  bool distant = false;           ///< cohesive pair across a gap: one normal row
-  ContactStiffness stiffness;     ///< from ContactLaw::stiffness(): the dynamics' law
+  PairGeometry<dim> geometry; ///< from r_ij and the radii (make_pair_geometry)
+  double normal_force = 0;    ///< static N = N^e + N^a (> 0: repulsive); N^e without cohesion
+  Vec<dim> tangential_force = Vec<dim>::Zero();     ///< T, on j, global frame (0 if frictionless)
+  RotVec<dim> rolling_moment = RotVec<dim>::Zero(); ///< Γ^r on j, elastic: -K_r δθ (2D, RR)
+  bool distant = false;                             ///< cohesive pair across a gap: one normal row
+  ContactStiffness stiffness; ///< from ContactLaw::stiffness(): the dynamics' law
 };
 
 /// Unknown layout and scales of one problem.
 template <int dim> struct RigidityLayout {
-  bool rotations = true;          ///< false: frictionless, translations only
-  bool rolling = false;           ///< rolling-resistance rows ([GRC] eq. 21; 2D, with rotations)
-  double ell = 1;                 ///< rotation length scale (m): rho = theta * ell
-  Vec<dim> cell = Vec<dim>::Ones();  ///< L_alpha: e_alpha = eps_alpha L_alpha
+  bool rotations = true;            ///< false: frictionless, translations only
+  bool rolling = false;             ///< rolling-resistance rows ([GRC] eq. 21; 2D, with rotations)
+  double ell = 1;                   ///< rotation length scale (m): rho = theta * ell
+  Vec<dim> cell = Vec<dim>::Ones(); ///< L_alpha: e_alpha = eps_alpha L_alpha
 
   int grain_dofs() const { return rotations ? dim + rot_dim<dim> : dim; }
   int local_size() const { return 2 * grain_dofs() + dim; }
   /// Rows of G per contact: dim with friction (normal and tangential) plus one with rolling
   /// resistance, 1 without friction; a distant pair has its normal row only.
   int rows_per_contact(bool distant = false) const {
-    if (!rotations || distant) return 1;
+    if (!rotations || distant)
+      return 1;
     return dim + (rolling ? 1 : 0);
   }
 };
@@ -66,31 +67,37 @@ DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const Rigidit
 /// G rows of the contact ([AR] eq. 11): delta_u itself with friction (dim rows, global
 /// frame), its normal part n . delta_u without or across a gap (1 row); with rolling
 /// resistance the row ρ_i - ρ_j follows.
-template <int dim> DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+template <int dim>
+DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// The contact's force in G's row space: F = N n + T with friction (then Γ^r / ell with
 /// rolling resistance), N without or across a gap.
-template <int dim> DynVector contact_force_vector(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+template <int dim>
+DynVector contact_force_vector(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// The contact's constitutive stiffness in G's row space (eq. 12-13, global frame):
 /// k_n n nᵀ + k_t (1 - n nᵀ) with friction (then K_r / ell²), k_n without or across a gap
 /// (-F0/D0 < 0 there). Elastic values throughout: [AR] uses the elastic 𝒦 of eq. (13) even on
 /// sliding contacts, [GRC] App. A the elastic K_T and K_r.
-template <int dim> DynMatrix contact_stiffness(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+template <int dim>
+DynMatrix contact_stiffness(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// m x m constitutive block ᵀG 𝒦 G, eq. (18). Symmetric positive semi-definite.
-template <int dim> DynMatrix constitutive_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+template <int dim>
+DynMatrix constitutive_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// m x m geometric block K(2): the change of the loads ᵀG f at fixed contact-law response
 /// when the geometry moves (rotation of n and of T, App. B eq. B1-B5; moving branch vectors
 /// and r_ij in the moments and in Omega Sigma). Not symmetric with friction. Derivation in
 /// docs/stiffness.md. The 2D rolling moment is a scalar that no geometry change turns: it
 /// adds nothing here.
-template <int dim> DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+template <int dim>
+DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// Generalised loads of the contact on the local unknowns, (ᵀG f) restricted to the
 /// contact: (F, b_i x F / ell, -F, -b_j x F / ell, F_alpha r_alpha / L_alpha).
-template <int dim> DynVector contact_loads(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+template <int dim>
+DynVector contact_loads(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// The free rolling of a divalent grain ([AR] fig. 14, App. E): rotation about the line
 /// through its two contact points p1, p2 (branch vectors from its centre), the centre moving
@@ -99,4 +106,4 @@ template <int dim> DynVector contact_loads(const RigidityContact<dim>& c, const 
 /// vector of G. 3D with rotations only.
 Eigen::Matrix<double, 6, 1> divalent_rolling_mode(const Vec<3>& p1, const Vec<3>& p2, double ell);
 
-}  // namespace granpack
+} // namespace granpack

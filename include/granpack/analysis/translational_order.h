@@ -18,7 +18,7 @@
 namespace granpack {
 
 template <int dim> struct BraggPeaks {
-  std::vector<std::array<int, dim>> m;  ///< integer wave-vector indices, one of each +-k pair
+  std::vector<std::array<int, dim>> m; ///< integer wave-vector indices, one of each +-k pair
 };
 
 /// rho_k for the wave vector of indices m in the periodic cell of lengths L.
@@ -37,4 +37,4 @@ template <int dim>
 double mean_translational_order(std::span<const Vec<dim>> x, const Vec<dim>& L,
                                 const BraggPeaks<dim>& peaks);
 
-}  // namespace granpack
+} // namespace granpack

@@ -17,7 +17,8 @@ nlohmann::json packing_summary(const PackingView<dim>& v, const std::filesystem:
   return {{"file", file.string()},
           {"dimension", dim},
           {"n", v.n},
-          {"friction", std::isinf(v.law.friction.mu) ? nlohmann::json("inf") : nlohmann::json(v.law.friction.mu)},
+          {"friction", std::isinf(v.law.friction.mu) ? nlohmann::json("inf")
+                                                     : nlohmann::json(v.law.friction.mu)},
           {"phi", v.phi},
           {"pressure", v.pressure}};
 }
@@ -43,8 +44,9 @@ template <int dim> nlohmann::json analyze_interactions(const PackingView<dim>& v
 /// (`x_k_stressed`, |N| above the tolerance), from the rank's sums and per-grain counts (local
 /// indices, ghosts included). Collective.
 template <int dim>
-nlohmann::json interaction_classes(const PackingView<dim>& v, ForceSignSums sums, std::vector<double> all,
-                                   std::vector<double> stressed, double force_scale);
+nlohmann::json interaction_classes(const PackingView<dim>& v, ForceSignSums sums,
+                                   std::vector<double> all, std::vector<double> stressed,
+                                   double force_scale);
 
 struct DensityOptions {
   bool enabled = true;           ///< 2D only; off with --no-density
@@ -66,4 +68,4 @@ template <int dim> nlohmann::json analyze_motifs(const PackingView<dim>& v);
 /// Bond-orientational order (eq. 31-34, tables II, VII, VIII) for d_c = 1.35 a and 1.40 a.
 nlohmann::json analyze_order(const PackingView<3>& v);
 
-}  // namespace granpack
+} // namespace granpack

@@ -16,8 +16,8 @@ struct EnsembleOptions {
   /// The deck, OUT (output_dir), checkpoint overrides and quiet; seed/restart are per sample.
   RunOptions run;
   int samples = 1;
-  std::uint64_t first_seed = 1;  ///< samples are seeds first_seed .. first_seed + samples - 1
-  int ranks_per_sample = 0;      ///< 0: size / samples if that divides, else 1
+  std::uint64_t first_seed = 1; ///< samples are seeds first_seed .. first_seed + samples - 1
+  int ranks_per_sample = 0;     ///< 0: size / samples if that divides, else 1
   /// Resume: skip the samples that finished (report.json), continue those with a checkpoint,
   /// start the others.
   bool resume = false;
@@ -31,4 +31,4 @@ std::filesystem::path sample_directory(const std::filesystem::path& out, std::ui
 /// is written: --restart resumes). Bad input (deck, options) throws InputError before any run.
 int run_ensemble(MPI_Comm world, const EnsembleOptions& options);
 
-}  // namespace granpack
+} // namespace granpack

@@ -22,7 +22,7 @@ struct EnsembleSummaryOptions {
 /// One sample's JSON documents: its report and its analyses by configuration stem.
 struct SampleDocuments {
   std::uint64_t seed = 0;
-  nlohmann::json report;                                  ///< null if not finished
+  nlohmann::json report; ///< null if not finished
   std::vector<std::pair<std::string, nlohmann::json>> analyses;
 };
 
@@ -34,4 +34,4 @@ nlohmann::json summarize_samples(const std::vector<SampleDocuments>& samples);
 /// terminal; throws InputError if the directory holds no sample.
 std::string summarize_ensemble(MPI_Comm world, const EnsembleSummaryOptions& options);
 
-}  // namespace granpack
+} // namespace granpack

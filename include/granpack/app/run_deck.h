@@ -3,8 +3,8 @@
 // and log.txt into the output directory.
 #include <mpi.h>
 
-#include <filesystem>
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,7 +15,7 @@ namespace granpack {
 
 struct RunOptions {
   std::filesystem::path deck;
-  std::filesystem::path output_dir;  ///< empty: out/<deck stem>
+  std::filesystem::path output_dir; ///< empty: out/<deck stem>
   std::optional<std::filesystem::path> restart;
   /// Restart: let the stages after the one in progress differ from the checkpoint's deck.
   bool allow_deck_change = false;
@@ -43,4 +43,4 @@ Deck load_deck_collectively(MPI_Comm world, const std::filesystem::path& path,
 /// deck that would not start. Collective on world.
 std::string check_decks(MPI_Comm world, const std::vector<std::filesystem::path>& decks);
 
-}  // namespace granpack
+} // namespace granpack

@@ -12,7 +12,7 @@ namespace granpack {
 
 struct StiffnessOptions {
   std::filesystem::path file;
-  std::optional<std::filesystem::path> json;  ///< also write the results here
+  std::optional<std::filesystem::path> json; ///< also write the results here
   /// Force-carrying threshold / (a^(dim-1) P), as in `granpack analyze`.
   double threshold = 1e-4;
   /// MUMPS null-pivot threshold, relative to the matrix's infinity norm (CNTL(3)).
@@ -24,4 +24,4 @@ struct StiffnessOptions {
 /// Returns the JSON text of the results (on every rank); rank 0 prints the table.
 std::string stiffness_file(MPI_Comm world, const StiffnessOptions& options);
 
-}  // namespace granpack
+} // namespace granpack

@@ -26,11 +26,12 @@ template <class T> std::vector<T> allgather_concat(MPI_Comm comm, const std::vec
   const std::vector<int> counts = allgather_value(comm, count);
   std::vector<int> displs(counts.size());
   int total = 0;
-  for (std::size_t r = 0; r < counts.size(); ++r) displs[r] = total, total += counts[r];
+  for (std::size_t r = 0; r < counts.size(); ++r)
+    displs[r] = total, total += counts[r];
   std::vector<T> all(static_cast<std::size_t>(total) / std::size_t(mpi_count<T>(1)));
   const MPI_Datatype type = mpi_datatype<T>();
   MPI_Allgatherv(mine.data(), count, type, all.data(), counts.data(), displs.data(), type, comm);
   return all;
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -17,15 +17,17 @@ inline double synchronized_wtime(MPI_Comm comm) {
 
 /// A barrier that sleeps while it waits instead of spinning in MPI: a group that finished
 /// early must not take a core from the groups still running (ranks may outnumber cores).
-inline void idle_barrier(MPI_Comm comm, std::chrono::milliseconds poll = std::chrono::milliseconds(50)) {
+inline void idle_barrier(MPI_Comm comm,
+                         std::chrono::milliseconds poll = std::chrono::milliseconds(50)) {
   MPI_Request request;
   MPI_Ibarrier(comm, &request);
   int done = 0;
   while (true) {
     MPI_Test(&request, &done, MPI_STATUS_IGNORE);
-    if (done) break;
+    if (done)
+      break;
     std::this_thread::sleep_for(poll);
   }
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -19,10 +19,11 @@ template <class T> T broadcast_value(MPI_Comm comm, T value, int root = 0) {
 /// Collective on comm: root's elements of `values` on every rank. The buffer must already have
 /// root's length everywhere (a fixed size, or a length broadcast before).
 template <std::ranges::contiguous_range R>
-  requires std::ranges::sized_range<R>
+requires std::ranges::sized_range<R>
 void broadcast_in_place(MPI_Comm comm, R&& values, int root = 0) {
   using T = std::ranges::range_value_t<R>;
-  MPI_Bcast(std::ranges::data(values), mpi_count<T>(std::ranges::size(values)), mpi_datatype<T>(), root, comm);
+  MPI_Bcast(std::ranges::data(values), mpi_count<T>(std::ranges::size(values)), mpi_datatype<T>(),
+            root, comm);
 }
 
 /// Collective on comm: every rank ends with root's `text`.
@@ -33,4 +34,4 @@ inline void broadcast_string(MPI_Comm comm, std::string& text, int root = 0) {
   MPI_Bcast(text.data(), static_cast<int>(len), MPI_CHAR, root, comm);
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -28,4 +28,4 @@ struct ClusterSplit {
 };
 ClusterSplit split_clusters(const std::vector<std::pair<GlobalId, GlobalId>>& pairs, MPI_Comm comm);
 
-}  // namespace granpack
+} // namespace granpack

@@ -39,4 +39,4 @@ template <class F> void collectively(MPI_Comm comm, F&& f) {
   err.raise_if_any(comm);
 }
 
-}  // namespace granpack
+} // namespace granpack

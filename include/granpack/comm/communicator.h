@@ -26,6 +26,8 @@ inline MPI_Comm split_communicator(MPI_Comm comm, int color, int key) {
 }
 
 /// Collective on comm: frees a communicator from split_communicator (comm is then MPI_COMM_NULL).
-inline void free_communicator(MPI_Comm& comm) { MPI_Comm_free(&comm); }
+inline void free_communicator(MPI_Comm& comm) {
+  MPI_Comm_free(&comm);
+}
 
-}  // namespace granpack
+} // namespace granpack

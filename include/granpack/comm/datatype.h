@@ -29,12 +29,18 @@ template <class T, Transfer how = Transfer::typed> constexpr bool travels_as_byt
 }
 
 template <class T, Transfer how = Transfer::typed> MPI_Datatype mpi_datatype() {
-  if constexpr (travels_as_bytes<T, how>()) return MPI_BYTE;
-  else if constexpr (std::is_same_v<T, double>) return MPI_DOUBLE;
-  else if constexpr (std::is_same_v<T, int>) return MPI_INT;
-  else if constexpr (std::is_same_v<T, std::int64_t>) return MPI_INT64_T;
-  else if constexpr (std::is_same_v<T, unsigned long long>) return MPI_UNSIGNED_LONG_LONG;
-  else return MPI_CHAR;
+  if constexpr (travels_as_bytes<T, how>())
+    return MPI_BYTE;
+  else if constexpr (std::is_same_v<T, double>)
+    return MPI_DOUBLE;
+  else if constexpr (std::is_same_v<T, int>)
+    return MPI_INT;
+  else if constexpr (std::is_same_v<T, std::int64_t>)
+    return MPI_INT64_T;
+  else if constexpr (std::is_same_v<T, unsigned long long>)
+    return MPI_UNSIGNED_LONG_LONG;
+  else
+    return MPI_CHAR;
 }
 
 /// MPI counts of `n` elements: elements, or bytes for those that travel as bytes.
@@ -42,4 +48,4 @@ template <class T, Transfer how = Transfer::typed> constexpr int mpi_count(std::
   return static_cast<int>(travels_as_bytes<T, how>() ? n * sizeof(T) : n);
 }
 
-}  // namespace granpack
+} // namespace granpack

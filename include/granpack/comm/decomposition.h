@@ -46,4 +46,4 @@ private:
 extern template class Decomposition<2>;
 extern template class Decomposition<3>;
 
-}  // namespace granpack
+} // namespace granpack

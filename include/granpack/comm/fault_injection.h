@@ -25,16 +25,24 @@
 // count: the count-th time this process reaches the point (default 1); for `step` and `hold`,
 // the step number; for `piece` and `piece_hold`, the number of pieces the event-driven stage
 // has run in this process (counted from 1 at every stage start or resume, so a count larger
-// than a stage's pieces passes over it to the next event-driven stage). @rank: only that rank of MPI_COMM_WORLD (default: every rank that reaches the
-// point). The variable is read once, by arm_fault_injection() at start-up; unset, each point
-// costs one test of a global flag.
+// than a stage's pieces passes over it to the next event-driven stage). @rank: only that rank of
+// MPI_COMM_WORLD (default: every rank that reaches the point). The variable is read once, by
+// arm_fault_injection() at start-up; unset, each point costs one test of a global flag.
 #include <mpi.h>
 
 #include <cstdint>
 
 namespace granpack {
 
-enum class FaultPoint { kCheckpointDatasets, kCheckpointRename, kCollective, kStep, kHold, kPiece, kPieceHold };
+enum class FaultPoint {
+  kCheckpointDatasets,
+  kCheckpointRename,
+  kCollective,
+  kStep,
+  kHold,
+  kPiece,
+  kPieceHold
+};
 
 /// Collective in effect (every rank reads the same environment): parses GRANPACK_FAULT, if
 /// set, and arms the point for this rank. Throws InputError (exit 2) on a malformed value.
@@ -43,7 +51,7 @@ void arm_fault_injection(MPI_Comm world);
 namespace detail {
 extern bool g_fault_armed;
 bool fault_reached(FaultPoint point, std::int64_t step);
-}  // namespace detail
+} // namespace detail
 
 /// Kills this process (SIGKILL) if GRANPACK_FAULT names this point and its count is reached.
 /// `step`: the step counter, for FaultPoint::kStep and kHold; the piece counter, for kPiece and
@@ -55,4 +63,4 @@ inline bool fault_point(FaultPoint point, std::int64_t step = 0) {
   return false;
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -27,7 +27,8 @@ std::vector<T> gather_on_root(MPI_Comm comm, const std::vector<T>& mine, int roo
   std::vector<T> all;
   if (on_root) {
     int total = 0;
-    for (std::size_t r = 0; r < counts.size(); ++r) displs[r] = total, total += counts[r];
+    for (std::size_t r = 0; r < counts.size(); ++r)
+      displs[r] = total, total += counts[r];
     all.resize(static_cast<std::size_t>(total) / std::size_t(mpi_count<T, how>(1)));
     if (origin) {
       origin->clear();
@@ -45,6 +46,7 @@ std::vector<double> gather_values(const std::vector<double>& mine, MPI_Comm comm
 
 /// The owned grains of every rank, sorted by global id, on `root` (empty elsewhere).
 template <int dim>
-std::vector<Particle<dim>> gather_particles(const ParticleStore<dim>& p, MPI_Comm comm, int root = 0);
+std::vector<Particle<dim>> gather_particles(const ParticleStore<dim>& p, MPI_Comm comm,
+                                            int root = 0);
 
-}  // namespace granpack
+} // namespace granpack

@@ -39,7 +39,7 @@ private:
     double shift = 0;              ///< added to s[axis] of what we send
     std::vector<std::size_t> send; ///< local indices sent
     std::size_t recv_first = 0, recv_count = 0;
-    bool self = false;             ///< to == from == this rank: the ghosts are our own images
+    bool self = false; ///< to == from == this rank: the ghosts are our own images
   };
   /// forward()/reverse() of a self swap, in place instead of through message buffers.
   void copy_to_images(ParticleStore<dim>& p, const Swap& sw) const;
@@ -55,4 +55,4 @@ private:
 extern template class Halo<2>;
 extern template class Halo<3>;
 
-}  // namespace granpack
+} // namespace granpack

@@ -19,4 +19,4 @@ std::string find_id_inconsistency(MPI_Comm comm, std::span<const std::int64_t> i
                                   std::span<const std::int64_t> first,
                                   std::span<const std::int64_t> second);
 
-}  // namespace granpack
+} // namespace granpack

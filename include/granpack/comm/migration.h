@@ -18,4 +18,4 @@ template <int dim> std::size_t migrate(System<dim>& sys, const Decomposition<dim
 /// that does not exist.
 template <int dim> void distribute(System<dim>& sys, const Decomposition<dim>& d);
 
-}  // namespace granpack
+} // namespace granpack

@@ -18,7 +18,8 @@ template <int dim> struct Packing {
   static void pack_particle(const ParticleStore<dim>& p, std::size_t i, std::vector<double>& buf);
   /// Reads one particle at buf[pos], advances pos.
   static Particle<dim> unpack_particle(const double* buf, std::size_t& pos);
-  static void pack_contact(const ContactKey& k, const ContactState<dim>& s, std::vector<double>& buf);
+  static void pack_contact(const ContactKey& k, const ContactState<dim>& s,
+                           std::vector<double>& buf);
   static void unpack_contact(const double* buf, std::size_t& pos, ContactKey& k,
                              ContactState<dim>& s);
 };
@@ -26,4 +27,4 @@ template <int dim> struct Packing {
 extern template struct Packing<2>;
 extern template struct Packing<3>;
 
-}  // namespace granpack
+} // namespace granpack

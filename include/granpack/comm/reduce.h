@@ -45,22 +45,22 @@ inline int global_bit_or(MPI_Comm comm, int bits) {
 /// std::span over an Eigen matrix's data().
 template <class R>
 concept ReductionBuffer = std::ranges::contiguous_range<R> && std::ranges::sized_range<R> &&
-                          has_mpi_datatype<std::ranges::range_value_t<R>>;
+    has_mpi_datatype<std::ranges::range_value_t<R>>;
 
 namespace detail {
 template <ReductionBuffer R> void all_reduce_in_place(MPI_Comm comm, R& values, MPI_Op op) {
   using T = std::ranges::range_value_t<R>;
-  MPI_Allreduce(MPI_IN_PLACE, std::ranges::data(values), static_cast<int>(std::ranges::size(values)),
-                mpi_datatype<T>(), op, comm);
+  MPI_Allreduce(MPI_IN_PLACE, std::ranges::data(values),
+                static_cast<int>(std::ranges::size(values)), mpi_datatype<T>(), op, comm);
 }
 template <ReductionBuffer In, ReductionBuffer Out>
 void all_reduce(MPI_Comm comm, const In& mine, Out& result, MPI_Op op) {
   using T = std::ranges::range_value_t<In>;
   static_assert(std::is_same_v<T, std::ranges::range_value_t<Out>>);
-  MPI_Allreduce(std::ranges::data(mine), std::ranges::data(result), static_cast<int>(std::ranges::size(mine)),
-                mpi_datatype<T>(), op, comm);
+  MPI_Allreduce(std::ranges::data(mine), std::ranges::data(result),
+                static_cast<int>(std::ranges::size(mine)), mpi_datatype<T>(), op, comm);
 }
-}  // namespace detail
+} // namespace detail
 
 /// Element-wise sum (maximum) over the ranks, in place: every rank ends with the totals.
 template <ReductionBuffer R> void global_sum_in_place(MPI_Comm comm, R&& values) {
@@ -81,4 +81,4 @@ void global_max(MPI_Comm comm, const In& mine, Out&& result) {
   detail::all_reduce(comm, mine, result, MPI_MAX);
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -16,7 +16,8 @@ namespace granpack {
 inline void exclusive_prefix_sum(MPI_Comm comm, std::span<const std::int64_t> mine,
                                  std::span<std::int64_t> offset) {
   MPI_Exscan(mine.data(), offset.data(), static_cast<int>(mine.size()), MPI_INT64_T, MPI_SUM, comm);
-  if (rank_of(comm) == 0) std::fill(offset.begin(), offset.end(), 0);
+  if (rank_of(comm) == 0)
+    std::fill(offset.begin(), offset.end(), 0);
 }
 
-}  // namespace granpack
+} // namespace granpack

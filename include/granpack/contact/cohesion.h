@@ -10,18 +10,20 @@
 namespace granpack {
 
 struct Cohesion {
-  double f0 = 0;  ///< maximum attractive force F0
-  double d0 = 0;  ///< range D0 (largest gap with an attraction)
+  double f0 = 0; ///< maximum attractive force F0
+  double d0 = 0; ///< range D0 (largest gap with an attraction)
 
   /// Attractive normal force N^a (<= 0) at overlap h (h < 0: gap -h).
   double force(double h) const {
-    if (h > 0) return -f0;
+    if (h > 0)
+      return -f0;
     const double gap = -h;
     return gap < d0 ? -f0 * (1.0 - gap / d0) : 0.0;
   }
   /// dN^a/dh: 0 in contact, -F0/D0 across a gap (the attraction weakens as the gap opens).
   double stiffness(double h) const {
-    if (h > 0) return 0.0;
+    if (h > 0)
+      return 0.0;
     return -h < d0 ? -f0 / d0 : 0.0;
   }
   /// Relative normal velocity two grains of reduced mass m* need at zero gap to escape:
@@ -33,4 +35,4 @@ inline double Cohesion::escape_velocity(double reduced_mass) const {
   return cohesive_velocity_scale(f0, d0, reduced_mass);
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -1,6 +1,7 @@
 #pragma once
 // Closed forms for binary collisions, used by the engine to choose time steps and by tests.
-// Conventions of docs/contact-law.md: Ẽ = E/(1-ν²), E* = Ẽ/2 (Hertz: N = (4/3) E* sqrt(R*) h^{3/2}).
+// Conventions of docs/contact-law.md: Ẽ = E/(1-ν²), E* = Ẽ/2 (Hertz: N = (4/3) E* sqrt(R*)
+// h^{3/2}).
 
 namespace granpack {
 
@@ -26,4 +27,4 @@ double linear_restitution(double zeta);
 /// Stability limit of velocity Verlet for one linear spring: 2 sqrt(m*/K) = (2/π) duration.
 double linear_critical_time_step(double k, double m_eff);
 
-}  // namespace granpack
+} // namespace granpack

@@ -25,24 +25,24 @@ template <int dim> struct ContactKinematics {
 
 /// Result of one evaluation.
 template <int dim> struct ContactForces {
-  bool active = false;                       ///< false: no interaction, state was reset
-  Vec<dim> force_on_j = Vec<dim>::Zero();    ///< N n + T, transmitted from i to j; on i: -it
+  bool active = false;                    ///< false: no interaction, state was reset
+  Vec<dim> force_on_j = Vec<dim>::Zero(); ///< N n + T, transmitted from i to j; on i: -it
   RotVec<dim> torque_i = RotVec<dim>::Zero();
   RotVec<dim> torque_j = RotVec<dim>::Zero();
-  double normal_elastic = 0;                 ///< N^e (Coulomb, rattlers)
-  double normal_attractive = 0;              ///< N^a <= 0 (cohesion, [GRC] eq. 4-5)
-  double normal_total = 0;                   ///< N = N^e + N^v + N^a
-  Vec<dim> tangential = Vec<dim>::Zero();    ///< T (on j)
+  double normal_elastic = 0;              ///< N^e (Coulomb, rattlers)
+  double normal_attractive = 0;           ///< N^a <= 0 (cohesion, [GRC] eq. 4-5)
+  double normal_total = 0;                ///< N = N^e + N^v + N^a
+  Vec<dim> tangential = Vec<dim>::Zero(); ///< T (on j)
 };
 
 /// Local constitutive stiffness at the current state (rigidity assembles G^T 𝒦 G).
 struct ContactStiffness {
-  double k_n = 0;        ///< dN/dh of the static force N^e + N^a (-F0/D0 across a gap)
-  double k_t = 0;        ///< dT/du_T (elastic; 0 for a distant interaction)
-  double k_r = 0;        ///< rolling stiffness K_r (0 without rolling resistance or contact)
-  bool sliding = false;  ///< last update was on the Coulomb cone
-  bool rolling_plastic = false;  ///< last update was on the rolling threshold
-  bool distant = false;  ///< cohesive interaction across a gap: normal force only
+  double k_n = 0;               ///< dN/dh of the static force N^e + N^a (-F0/D0 across a gap)
+  double k_t = 0;               ///< dT/du_T (elastic; 0 for a distant interaction)
+  double k_r = 0;               ///< rolling stiffness K_r (0 without rolling resistance or contact)
+  bool sliding = false;         ///< last update was on the Coulomb cone
+  bool rolling_plastic = false; ///< last update was on the rolling threshold
+  bool distant = false;         ///< cohesive interaction across a gap: normal force only
 };
 
 template <int dim> struct ContactLaw {
@@ -50,8 +50,8 @@ template <int dim> struct ContactLaw {
   NormalDamping damping{};
   TangentialElasticity tangential{};
   CoulombFriction friction{};
-  std::optional<Cohesion> cohesion;          ///< [GRC] eq. 4-5
-  std::optional<RollingResistance> rolling;  ///< [GRC] eq. 9-10
+  std::optional<Cohesion> cohesion;         ///< [GRC] eq. 4-5
+  std::optional<RollingResistance> rolling; ///< [GRC] eq. 9-10
 
   /// Largest gap (-h) at which a pair interacts: 0 without cohesion, D0 with it.
   double interaction_range() const { return cohesion ? cohesion->d0 : 0.0; }
@@ -107,8 +107,8 @@ template <int dim> struct ContactLaw {
     const double n_visc = damping.coefficient(g.effective_mass, nr.stiffness) * h_dot;
 
     // Tangential: transport (App. B), Walton (App. A), increment (eq. 3), Coulomb.
-    Vec<dim> t = transport_tangential<dim>(
-        state.tangential_force, contact_rotation<dim>(g, v_ij, kin.w_i, kin.w_j, dt), n);
+    Vec<dim> t = transport_tangential<dim>(state.tangential_force,
+                                           contact_rotation<dim>(g, v_ij, kin.w_i, kin.w_j, dt), n);
     // (skipped for a zero T, e.g. without friction: the ratio may cost a cube root)
     if (tangential.walton_rescaling && tangential.proportional_to_normal() &&
         nr.force < state.normal_force && state.tangential_force.squaredNorm() > 0)
@@ -143,7 +143,8 @@ template <int dim> struct ContactLaw {
             state.rolling, contact_rotation<dim>(g, v_ij, kin.w_i, kin.w_j, dt), n);
       }
       state.flags &= ~static_cast<std::uint32_t>(kRollingPlastic);
-      if (rolling->update<dim>(state.rolling, d_theta, nr.force)) state.flags |= kRollingPlastic;
+      if (rolling->update<dim>(state.rolling, d_theta, nr.force))
+        state.flags |= kRollingPlastic;
       // Elastic-plastic moment on j, plus the optional viscous part (not in [GRC]).
       RotVec<dim> gamma = -rolling->k_r * state.rolling;
       if (rolling->damping > 0)
@@ -175,4 +176,4 @@ template <int dim> struct ContactLaw {
   }
 };
 
-}  // namespace granpack
+} // namespace granpack

@@ -36,14 +36,20 @@ inline double hertz_cohesive_stiffness_number(double e_tilde, double a, double f
 }
 
 /// R* = R_i R_j/(R_i + R_j) of two equal grains of diameter a: a/4 ([AR] eq. 1-2).
-inline double equal_grains_effective_radius(double a) { return 0.25 * a; }
+inline double equal_grains_effective_radius(double a) {
+  return 0.25 * a;
+}
 
 /// m* = m_i m_j/(m_i + m_j) of two grains of equal mass m: m/2.
-inline double equal_grains_effective_mass(double m) { return 0.5 * m; }
+inline double equal_grains_effective_mass(double m) {
+  return 0.5 * m;
+}
 
 /// a^(dim−1): the area (3D) or length (2D, forces per unit thickness) over which a pressure
 /// acts on one grain of diameter a, so that P a^(dim−1) is a force and F/a^(dim−1) a pressure.
-inline double grain_section(int dim, double a) { return dim == 3 ? a * a : a; }
+inline double grain_section(int dim, double a) {
+  return dim == 3 ? a * a : a;
+}
 
 /// P a^(dim−1): the force scale of a packing under pressure P, [AR]'s a²P (sec. III) and
 /// [GRC]'s P a in 2D.
@@ -75,6 +81,8 @@ inline double cohesive_time_scale(double f0, double a, double mass) {
 /// iterative rattler rule of [AR] sec. III B: without friction the contact forces are normal
 /// and hold a grain only with dim + 1 contacts (normals not all in one half-space); with
 /// friction two contacts can (equal and opposite forces along the line between them).
-inline int min_backbone_contacts(int dim, double friction) { return friction > 0 ? 2 : dim + 1; }
+inline int min_backbone_contacts(int dim, double friction) {
+  return friction > 0 ? 2 : dim + 1;
+}
 
-}  // namespace granpack
+} // namespace granpack

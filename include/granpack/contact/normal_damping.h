@@ -14,7 +14,7 @@ inline double viscous_coefficient(double two_zeta, double m_eff, double k_n) {
 }
 
 struct NormalDamping {
-  double zeta = 0;  ///< fraction of critical damping, in [0, 1)
+  double zeta = 0; ///< fraction of critical damping, in [0, 1)
 
   /// α(h) for reduced mass m* and current normal stiffness K_N(h).
   double coefficient(double m_eff, double k_n) const {
@@ -22,4 +22,4 @@ struct NormalDamping {
   }
 };
 
-}  // namespace granpack
+} // namespace granpack

@@ -7,7 +7,7 @@
 // x_i + b_i = x_j + b_j. With this choice a rigid motion of the pair produces no relative
 // velocity at the contact (objectivity) and the pair's angular momentum is conserved exactly.
 // ([AR] eq. 10 uses R_i n and -R_j n; the difference is O(h/R).)
-#include <Eigen/Geometry>  // cross products
+#include <Eigen/Geometry> // cross products
 #include <cmath>
 
 #include "granpack/core/error.h"
@@ -37,16 +37,18 @@ template <int dim> inline RotVec<dim> moment(const Vec<dim>& b, const Vec<dim>& 
 
 /// Distance from a grain's centre to the contact point, the middle of the overlap: R - h/2.
 /// Shared by PairGeometry, the batched kernel and the elastic moments of the engine.
-inline double contact_arm(double radius, double h) { return radius - 0.5 * h; }
+inline double contact_arm(double radius, double h) {
+  return radius - 0.5 * h;
+}
 
 /// Pure geometry of a pair: normal, overlap, effective radius and mass.
 template <int dim> struct PairGeometry {
-  Vec<dim> normal = Vec<dim>::Zero();  ///< unit vector n from i to j
-  double distance = 0;                 ///< |r_ij|
-  double overlap = 0;                  ///< h = R_i + R_j - |r_ij| (negative: gap)
+  Vec<dim> normal = Vec<dim>::Zero(); ///< unit vector n from i to j
+  double distance = 0;                ///< |r_ij|
+  double overlap = 0;                 ///< h = R_i + R_j - |r_ij| (negative: gap)
   double radius_i = 0, radius_j = 0;
-  double effective_radius = 0;  ///< R* = R_i R_j / (R_i + R_j)
-  double effective_mass = 0;    ///< m* = m_i m_j / (m_i + m_j)
+  double effective_radius = 0; ///< R* = R_i R_j / (R_i + R_j)
+  double effective_mass = 0;   ///< m* = m_i m_j / (m_i + m_j)
 
   bool touching() const { return overlap > 0; }
   /// Branch vector from the centre of i to the contact point (middle of the overlap).
@@ -71,4 +73,4 @@ inline PairGeometry<dim> make_pair_geometry(double radius_i, double radius_j, do
   return g;
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -22,9 +22,9 @@
 namespace granpack {
 
 struct RollingResistance {
-  double k_r = 0;   ///< rolling stiffness K_r (moment per radian)
-  double mu_r = 0;  ///< rolling friction μ_r (a length): |Γ^r| <= μ_r N^e
-  double damping = 0;  ///< ζ_r, fraction of the critical rolling damping (0: [GRC])
+  double k_r = 0;     ///< rolling stiffness K_r (moment per radian)
+  double mu_r = 0;    ///< rolling friction μ_r (a length): |Γ^r| <= μ_r N^e
+  double damping = 0; ///< ζ_r, fraction of the critical rolling damping (0: [GRC])
 
   /// η_r = ζ_r 2 R* sqrt(m* K_r).
   double viscosity(double effective_mass, double effective_radius) const {
@@ -38,10 +38,11 @@ struct RollingResistance {
     theta += d_theta;
     const double limit = mu_r * std::max(normal_elastic, 0.0);
     const double m2 = k_r * k_r * theta.squaredNorm();
-    if (m2 <= limit * limit) return false;
+    if (m2 <= limit * limit)
+      return false;
     theta = limit > 0 ? RotVec<dim>(theta * (limit / std::sqrt(m2))) : RotVec<dim>::Zero();
     return true;
   }
 };
 
-}  // namespace granpack
+} // namespace granpack

@@ -16,9 +16,9 @@
 namespace granpack {
 
 enum class TangentialStiffnessKind {
-  kMindlin,   ///< K_T = (2-2ν)/(2-ν) K_N(h)  ([AR] eq. 3)
-  kRatio,     ///< K_T = ratio · K_N(h)
-  kConstant,  ///< K_T constant (linear law)
+  kMindlin,  ///< K_T = (2-2ν)/(2-ν) K_N(h)  ([AR] eq. 3)
+  kRatio,    ///< K_T = ratio · K_N(h)
+  kConstant, ///< K_T constant (linear law)
 };
 
 // The formulas of the tangential sub-models, one inline function each: TangentialElasticity,
@@ -31,18 +31,24 @@ inline double proportional_tangential_stiffness(double ratio, double k_n) {
 }
 
 /// Coulomb's threshold μ N^e on |T| ([GRC] eq. 8; N^e alone, without N^v or N^a).
-inline double coulomb_limit(double mu, double normal_elastic) { return mu * normal_elastic; }
+inline double coulomb_limit(double mu, double normal_elastic) {
+  return mu * normal_elastic;
+}
 /// T beyond the cone: |T|² = t2 > limit² (false for μ = +inf).
-inline bool beyond_coulomb(double t2, double limit) { return t2 > limit * limit; }
+inline bool beyond_coulomb(double t2, double limit) {
+  return t2 > limit * limit;
+}
 /// Factor limit/|T| that brings a T beyond the cone (|T|² = t2 > 0) back onto it, for
 /// limit > 0; a zero limit (μ = 0 or N^e = 0) zeroes T instead.
-inline double coulomb_scale(double limit, double t2) { return limit / std::sqrt(t2); }
+inline double coulomb_scale(double limit, double t2) {
+  return limit / std::sqrt(t2);
+}
 
 /// Tangential stiffness sub-model.
 struct TangentialElasticity {
   TangentialStiffnessKind kind = TangentialStiffnessKind::kMindlin;
-  double value = 0;  ///< kMindlin, kRatio: K_T/K_N; kConstant: K_T
-  bool walton_rescaling = true;  ///< [AR] App. A; switch exists for tests and studies only
+  double value = 0;             ///< kMindlin, kRatio: K_T/K_N; kConstant: K_T
+  bool walton_rescaling = true; ///< [AR] App. A; switch exists for tests and studies only
 
   /// (2-2ν)/(2-ν) for Poisson ratio ν.
   static double mindlin_ratio(double nu) { return (2.0 - 2.0 * nu) / (2.0 - nu); }
@@ -60,7 +66,8 @@ struct TangentialElasticity {
   bool proportional_to_normal() const { return kind != TangentialStiffnessKind::kConstant; }
   /// K_T given the current K_N(h) (0 out of contact).
   double stiffness(double k_n) const {
-    if (!(k_n > 0)) return 0.0;
+    if (!(k_n > 0))
+      return 0.0;
     return proportional_to_normal() ? proportional_tangential_stiffness(value, k_n) : value;
   }
 };
@@ -113,13 +120,14 @@ template <int dim>
 inline Vec<dim> transport_tangential(const Vec<dim>& t, const RotVec<dim>& theta,
                                      const Vec<dim>& n) {
   const double magnitude2 = t.squaredNorm();
-  if (magnitude2 == 0) return t;
+  if (magnitude2 == 0)
+    return t;
   // Below 1e-3 rad, small_angle_series: with std::sincos this function was ~15 % of a
   // dense-packing step (docs/performance.md).
   Vec<dim> r;
   if constexpr (dim == 3) {
     const double x2 = theta.squaredNorm();
-    double c, s_over_x, omc_over_x2;  // cos x, sin(x)/x, (1 - cos x)/x²
+    double c, s_over_x, omc_over_x2; // cos x, sin(x)/x, (1 - cos x)/x²
     if (x2 < kSmallAngleSquared) {
       const SmallAngle a = small_angle_series(x2);
       c = a.cos_x;
@@ -150,4 +158,4 @@ inline Vec<dim> transport_tangential(const Vec<dim>& t, const RotVec<dim>& theta
   return rn2 > 0 ? Vec<dim>(r * std::sqrt(magnitude2 / rn2)) : Vec<dim>::Zero();
 }
 
-}  // namespace granpack
+} // namespace granpack

@@ -9,8 +9,8 @@
 namespace granpack {
 
 template <int dim> struct Cell {
-  Vec<dim> length = Vec<dim>::Ones();  ///< L_alpha (m)
-  Vec<dim> rate = Vec<dim>::Zero();    ///< dL_alpha/dt (m/s)
+  Vec<dim> length = Vec<dim>::Ones(); ///< L_alpha (m)
+  Vec<dim> rate = Vec<dim>::Zero();   ///< dL_alpha/dt (m/s)
 
   /// Volume (3D) or area (2D) of the cell, Omega = prod L_alpha.
   double volume() const { return length.prod(); }
@@ -21,7 +21,8 @@ template <int dim> struct Cell {
   static Vec<dim> wrap(Vec<dim> s) {
     for (int a = 0; a < dim; ++a) {
       s[a] -= std::floor(s[a]);
-      if (s[a] >= 1.0) s[a] = 0.0;  // -tiny - floor(-tiny) rounds to exactly 1.0
+      if (s[a] >= 1.0)
+        s[a] = 0.0; // -tiny - floor(-tiny) rounds to exactly 1.0
     }
     return s;
   }
@@ -30,9 +31,10 @@ template <int dim> struct Cell {
   /// positions: r_ij of [AR] eq. (7)-(10).
   Vec<dim> min_image(const Vec<dim>& si, const Vec<dim>& sj) const {
     Vec<dim> ds = sj - si;
-    for (int a = 0; a < dim; ++a) ds[a] -= std::nearbyint(ds[a]);
+    for (int a = 0; a < dim; ++a)
+      ds[a] -= std::nearbyint(ds[a]);
     return length.cwiseProduct(ds);
   }
 };
 
-}  // namespace granpack
+} // namespace granpack

@@ -16,8 +16,10 @@
 namespace granpack {
 
 struct ContactKey {
-  GlobalId first = -1, second = -1;  ///< first < second
-  static ContactKey of(GlobalId a, GlobalId b) { return a < b ? ContactKey{a, b} : ContactKey{b, a}; }
+  GlobalId first = -1, second = -1; ///< first < second
+  static ContactKey of(GlobalId a, GlobalId b) {
+    return a < b ? ContactKey{a, b} : ContactKey{b, a};
+  }
   friend bool operator==(const ContactKey&, const ContactKey&) = default;
   friend auto operator<=>(const ContactKey&, const ContactKey&) = default;
 };
@@ -33,18 +35,18 @@ struct ContactKeyHash {
 
 /// Bits of ContactState::flags.
 enum ContactFlag : std::uint32_t {
-  kSliding = 1u << 0,         ///< tangential force on the Coulomb cone at the last update
-  kRollingPlastic = 1u << 1,  ///< rolling moment at its threshold ([GRC] eq. 10)
-  kDistant = 1u << 2,         ///< cohesive interaction across a gap, no contact ([GRC] eq. 5)
+  kSliding = 1u << 0,        ///< tangential force on the Coulomb cone at the last update
+  kRollingPlastic = 1u << 1, ///< rolling moment at its threshold ([GRC] eq. 10)
+  kDistant = 1u << 2,        ///< cohesive interaction across a gap, no contact ([GRC] eq. 5)
 };
 
 /// What a contact remembers from one step to the next.
 template <int dim> struct ContactState {
-  double normal_force = 0;  ///< elastic normal force N^e at the last update (Walton, Coulomb)
-  Vec<dim> tangential_force = Vec<dim>::Zero();  ///< elastic T, global frame, follows the pair
-  RotVec<dim> rolling = RotVec<dim>::Zero();     ///< elastic relative rolling rotation
-  std::uint32_t flags = 0;                       ///< ContactFlag bits
-  std::int64_t age = 0;                          ///< time steps since the contact formed
+  double normal_force = 0; ///< elastic normal force N^e at the last update (Walton, Coulomb)
+  Vec<dim> tangential_force = Vec<dim>::Zero(); ///< elastic T, global frame, follows the pair
+  RotVec<dim> rolling = RotVec<dim>::Zero();    ///< elastic relative rolling rotation
+  std::uint32_t flags = 0;                      ///< ContactFlag bits
+  std::int64_t age = 0;                         ///< time steps since the contact formed
 };
 
 /// The contacts one rank owns: dense arrays plus a key -> index map.
@@ -84,4 +86,4 @@ private:
 extern template class ContactStore<2>;
 extern template class ContactStore<3>;
 
-}  // namespace granpack
+} // namespace granpack

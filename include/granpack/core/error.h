@@ -66,18 +66,18 @@ namespace detail {
   os << msg << " [check '" << cond << "' failed at " << file << ":" << line << "]";
   throw Error(os.str());
 }
-}  // namespace detail
+} // namespace detail
 
-}  // namespace granpack
+} // namespace granpack
 
 /// Always-on check: throws granpack::Error with the message (streamable) when cond is false.
-#define GRANPACK_CHECK(cond, msg)                                                        \
-  do {                                                                                   \
-    if (!(cond)) {                                                                       \
-      std::ostringstream granpack_check_os_;                                             \
-      granpack_check_os_ << msg;                                                         \
-      ::granpack::detail::check_failed(#cond, granpack_check_os_.str(), __FILE__, __LINE__); \
-    }                                                                                    \
+#define GRANPACK_CHECK(cond, msg)                                                                  \
+  do {                                                                                             \
+    if (!(cond)) {                                                                                 \
+      std::ostringstream granpack_check_os_;                                                       \
+      granpack_check_os_ << msg;                                                                   \
+      ::granpack::detail::check_failed(#cond, granpack_check_os_.str(), __FILE__, __LINE__);       \
+    }                                                                                              \
   } while (0)
 
 /// Debug-only assertion: compiled out in Release builds (NDEBUG).

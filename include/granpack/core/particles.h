@@ -77,4 +77,4 @@ private:
 extern template class ParticleStore<2>;
 extern template class ParticleStore<3>;
 
-}  // namespace granpack
+} // namespace granpack

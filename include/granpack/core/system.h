@@ -13,8 +13,8 @@ template <int dim> struct System {
   Cell<dim> cell;
   ParticleStore<dim> particles;
   ContactStore<dim> contacts;
-  double time = 0.0;       ///< simulated time, s
-  std::int64_t step = 0;   ///< time steps since the start of the run
+  double time = 0.0;     ///< simulated time, s
+  std::int64_t step = 0; ///< time steps since the start of the run
 };
 
-}  // namespace granpack
+} // namespace granpack

@@ -13,10 +13,10 @@
 namespace granpack {
 
 template <int dim> struct CellControl {
-  double mass = 1.0;                         ///< generalised mass M, kg
-  Vec<dim> target = Vec<dim>::Zero();        ///< prescribed Sigma_a, Pa
-  std::array<bool, dim> fixed{};             ///< axes kept at constant length
-  double max_strain_rate = std::numeric_limits<double>::infinity();  ///< 1/s
+  double mass = 1.0;                  ///< generalised mass M, kg
+  Vec<dim> target = Vec<dim>::Zero(); ///< prescribed Sigma_a, Pa
+  std::array<bool, dim> fixed{};      ///< axes kept at constant length
+  double max_strain_rate = std::numeric_limits<double>::infinity(); ///< 1/s
 
   /// Ldot += h * (Omega/L_a)(sigma_aa - Sigma_a)/M, then the strain-rate cap.
   void kick(Cell<dim>& cell, const Vec<dim>& sigma_diag, double h) const {
@@ -28,12 +28,14 @@ template <int dim> struct CellControl {
       }
       cell.rate[a] += h * omega / cell.length[a] * (sigma_diag[a] - target[a]) / mass;
       const double cap = max_strain_rate * cell.length[a];
-      if (cell.rate[a] > cap) cell.rate[a] = cap;
-      if (cell.rate[a] < -cap) cell.rate[a] = -cap;
+      if (cell.rate[a] > cap)
+        cell.rate[a] = cap;
+      if (cell.rate[a] < -cap)
+        cell.rate[a] = -cap;
     }
   }
   /// L += dt Ldot.
   static void drift(Cell<dim>& cell, double dt) { cell.length += dt * cell.rate; }
 };
 
-}  // namespace granpack
+} // namespace granpack

@@ -22,10 +22,10 @@ namespace granpack {
 
 /// What one force evaluation measured on this rank's pairs.
 template <int dim> struct ForceSums {
-  Tensor<dim> virial = Tensor<dim>::Zero();          ///< sum F_ij (x) r_ij, all contact forces
-  Tensor<dim> virial_elastic = Tensor<dim>::Zero();  ///< the same with elastic forces only
-  std::int64_t interacting = 0;                      ///< pairs in contact
-  double max_overlap = 0;                            ///< largest h / min(R_i, R_j)
+  Tensor<dim> virial = Tensor<dim>::Zero();         ///< sum F_ij (x) r_ij, all contact forces
+  Tensor<dim> virial_elastic = Tensor<dim>::Zero(); ///< the same with elastic forces only
+  std::int64_t interacting = 0;                     ///< pairs in contact
+  double max_overlap = 0;                           ///< largest h / min(R_i, R_j)
 };
 
 template <int dim> class ContactForceLoop {
@@ -58,11 +58,10 @@ private:
   /// results added in list order.
   ForceSums<dim> compute_batched(System<dim>& sys, const VerletList<dim>& list,
                                  const ContactLaw<dim>& law, const HertzMindlinConstants& c,
-                                 double dt)
-    requires(dim == 3);
+                                 double dt) requires(dim == 3);
 
-  std::vector<std::ptrdiff_t> slot_;  ///< per listed pair: index in the ContactStore or -1
-  std::unique_ptr<HertzMindlinBatch> batch_;  ///< scratch of compute_batched (~40 kB)
+  std::vector<std::ptrdiff_t> slot_;         ///< per listed pair: index in the ContactStore or -1
+  std::unique_ptr<HertzMindlinBatch> batch_; ///< scratch of compute_batched (~40 kB)
 };
 
 template <int dim>
@@ -74,9 +73,11 @@ void ContactForceLoop<dim>::for_each_contact(const System<dim>& sys, const Verle
   const auto& nb = list.neighbor_array();
   for (std::size_t i = 0; i < list.n_owned(); ++i)
     for (std::size_t k = off[i]; k < off[i + 1]; ++k) {
-      if (slot_[k] < 0) continue;
+      if (slot_[k] < 0)
+        continue;
       const auto& st = sys.contacts.state(static_cast<std::size_t>(slot_[k]));
-      if (st.age == 0) continue;
+      if (st.age == 0)
+        continue;
       const std::size_t j = nb[k];
       f(i, j, Vec<dim>(sys.cell.length.cwiseProduct(p.position[j] - p.position[i])), st);
     }
@@ -85,4 +86,4 @@ void ContactForceLoop<dim>::for_each_contact(const System<dim>& sys, const Verle
 extern template class ContactForceLoop<2>;
 extern template class ContactForceLoop<3>;
 
-}  // namespace granpack
+} // namespace granpack

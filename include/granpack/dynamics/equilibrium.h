@@ -17,10 +17,10 @@
 namespace granpack {
 
 struct EquilibriumTolerances {
-  double force = 1e-4;    ///< max net static force on a grain / force scale
-  double stress = 1e-4;   ///< max |sigma_aa - Sigma_a| / stress scale
-  double kinetic = 1e-8;  ///< kinetic energy per grain / energy scale
-  double moment = std::numeric_limits<double>::infinity();  ///< max net static moment / moment scale
+  double force = 1e-4;   ///< max net static force on a grain / force scale
+  double stress = 1e-4;  ///< max |sigma_aa - Sigma_a| / stress scale
+  double kinetic = 1e-8; ///< kinetic energy per grain / energy scale
+  double moment = std::numeric_limits<double>::infinity(); ///< max net static moment / moment scale
   bool checks_moment() const { return moment < std::numeric_limits<double>::infinity(); }
   friend bool operator==(const EquilibriumTolerances&, const EquilibriumTolerances&) = default;
 };
@@ -47,4 +47,4 @@ struct EquilibriumMeasure {
   }
 };
 
-}  // namespace granpack
+} // namespace granpack

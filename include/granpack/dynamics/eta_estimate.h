@@ -35,10 +35,10 @@ private:
   std::optional<double> prev_log_ratio_;
   std::int64_t prev_step_ = 0;
   std::optional<std::int64_t> first_step_;
-  std::optional<double> rate_;  ///< smoothed d ln(r) / d step (negative while converging)
+  std::optional<double> rate_; ///< smoothed d ln(r) / d step (negative while converging)
 };
 
 /// "45 s", "12 min", "3.5 h", "2.1 d".
 std::string human_duration(double seconds);
 
-}  // namespace granpack
+} // namespace granpack

@@ -89,8 +89,8 @@ public:
   std::size_t size() const { return mass_.size(); }
   double time() const { return t_now_; }
   std::int64_t collisions() const { return n_collisions_; } ///< total since construction
-  double kinetic_energy() const;                              ///< sum 1/2 m v^2
-  Vec<dim> momentum() const;                                  ///< sum m v
+  double kinetic_energy() const;                            ///< sum 1/2 m v^2
+  Vec<dim> momentum() const;                                ///< sum m v
   double solid_fraction() const; ///< sum of sphere volumes (disk areas) / cell volume
 
   /// Collisional (virial) pressure averaged since the last reset_pressure() (or
@@ -109,7 +109,8 @@ public:
   /// Cells per axis of the current cell list (1: the whole axis, all pairs along it).
   std::array<int, dim> cells_per_axis() const {
     std::array<int, dim> n;
-    for (int a = 0; a < dim; ++a) n[a] = real_[a] ? ncross_[a] : 1;
+    for (int a = 0; a < dim; ++a)
+      n[a] = real_[a] ? ncross_[a] : 1;
     return n;
   }
 
@@ -170,8 +171,8 @@ private:
   void scan_full(int i);
   void scan_slab(int i, int axis, int coord);
   void predict_all();
-  template <class F> void for_stencil(const std::array<int, dim>& c, int fixed_axis,
-                                      int fixed_coord, F&& f) const;
+  template <class F>
+  void for_stencil(const std::array<int, dim>& c, int fixed_axis, int fixed_coord, F&& f) const;
 
   // --- cells
   void build_cells(double d_allow);
@@ -186,8 +187,9 @@ private:
   void heap_update(int i);
   void sift_up(std::size_t p);
   void sift_down(std::size_t p);
-  double key(int i) const { return slots_[i].t_coll < slots_[i].t_cross ? slots_[i].t_coll
-                                                                         : slots_[i].t_cross; }
+  double key(int i) const {
+    return slots_[i].t_coll < slots_[i].t_cross ? slots_[i].t_coll : slots_[i].t_cross;
+  }
 
   // --- bookkeeping
   void sync_output();

@@ -22,12 +22,12 @@ namespace granpack {
 
 /// The constants of the law the batch kernel needs, taken from a ContactLaw<3>.
 struct HertzMindlinConstants {
-  double e_tilde = 0;     ///< Hertz Ẽ (linear_k_n = 0) ...
-  double linear_k_n = 0;  ///< ... or a linear spring K_N (e_tilde = 0)
-  double zeta = 0;        ///< damping fraction ζ
-  double k_t_ratio = 0;   ///< K_T / K_N
-  bool walton = true;     ///< Walton rescaling of T when N^e decreases
-  double mu = 0;          ///< Coulomb coefficient (may be +inf)
+  double e_tilde = 0;    ///< Hertz Ẽ (linear_k_n = 0) ...
+  double linear_k_n = 0; ///< ... or a linear spring K_N (e_tilde = 0)
+  double zeta = 0;       ///< damping fraction ζ
+  double k_t_ratio = 0;  ///< K_T / K_N
+  bool walton = true;    ///< Walton rescaling of T when N^e decreases
+  double mu = 0;         ///< Coulomb coefficient (may be +inf)
 
   /// The constants of `law` if the batch kernel can evaluate it: no cohesion, no rolling
   /// resistance, K_T proportional to K_N. Otherwise nullopt (the caller uses the scalar law).
@@ -37,29 +37,29 @@ struct HertzMindlinConstants {
 /// One batch of contacts: inputs gathered by the caller, outputs written by evaluate().
 /// Field arrays are 64-byte aligned; evaluate() pads the lanes past the count itself.
 struct alignas(64) HertzMindlinBatch {
-  static constexpr std::size_t kCapacity = 128;  ///< a multiple of every SIMD width
+  static constexpr std::size_t kCapacity = 128; ///< a multiple of every SIMD width
   // kCapacity doubles (or ints) are a multiple of 64 bytes: every array starts aligned.
   template <class T> using Lane = T[kCapacity];
 
   // Inputs. r = r_ij (i -> j, m); v = v_j - v_i including the cell's affine velocity.
   Lane<double> rx, ry, rz, rad_i, rad_j, mass_i, mass_j;
   Lane<double> vx, vy, vz, wix, wiy, wiz, wjx, wjy, wjz;
-  Lane<double> tx, ty, tz;  ///< stored T (updated in place to the new T)
-  Lane<double> n_old;       ///< stored N^e (updated in place to the new N^e)
+  Lane<double> tx, ty, tz; ///< stored T (updated in place to the new T)
+  Lane<double> n_old;      ///< stored N^e (updated in place to the new N^e)
   // Outputs.
-  Lane<double> fx, fy, fz;                ///< N n + T on j (total normal force: N^e + N^v)
-  Lane<double> tix, tiy, tiz, tjx, tjy, tjz;  ///< torques on i and j
-  Lane<double> overlap;                   ///< h
-  Lane<int> sliding;                      ///< 1: T on the Coulomb cone
-  Lane<int> exact;                        ///< 1: off the batch's path, use ContactLaw::force
+  Lane<double> fx, fy, fz;                   ///< N n + T on j (total normal force: N^e + N^v)
+  Lane<double> tix, tiy, tiz, tjx, tjy, tjz; ///< torques on i and j
+  Lane<double> overlap;                      ///< h
+  Lane<int> sliding;                         ///< 1: T on the Coulomb cone
+  Lane<int> exact;                           ///< 1: off the batch's path, use ContactLaw::force
 };
 
 /// What evaluate() sums over the lanes it handles (those not flagged `exact`).
 struct HertzMindlinSums {
-  double virial[9] = {};          ///< sum of F ⊗ r (row-major: F_a r_b at [3a + b])
-  double virial_elastic[9] = {};  ///< the same with the elastic force N^e n + T
-  double max_overlap = 0;         ///< largest h / min(R_i, R_j)
-  long contacts = 0;              ///< lanes evaluated
+  double virial[9] = {};         ///< sum of F ⊗ r (row-major: F_a r_b at [3a + b])
+  double virial_elastic[9] = {}; ///< the same with the elastic force N^e n + T
+  double max_overlap = 0;        ///< largest h / min(R_i, R_j)
+  long contacts = 0;             ///< lanes evaluated
 };
 
 /// Evaluates lanes [0, n) over a time step dt (padding them to a multiple of 8 internally)
@@ -67,4 +67,4 @@ struct HertzMindlinSums {
 void evaluate(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t n, double dt,
               HertzMindlinSums& sums);
 
-}  // namespace granpack
+} // namespace granpack

@@ -30,4 +30,4 @@ template <int dim> Vec<dim> momentum(const ParticleStore<dim>& p);
 /// Kinetic energy of the owned grains, translational (fluctuating) plus rotational.
 template <int dim> double kinetic_energy(const ParticleStore<dim>& p);
 
-}  // namespace granpack
+} // namespace granpack

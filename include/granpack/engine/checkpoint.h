@@ -21,8 +21,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,16 +36,16 @@ template <int dim> struct RunContext;
 
 /// Bits of the per-step request the ranks agree on (bitwise OR all-reduce in the MD step).
 enum StepRequest : int {
-  kRequestRebuild = 1,     ///< a grain moved more than half the skin
-  kRequestCheckpoint = 2,  ///< the step or wall-time interval has elapsed
-  kRequestStop = 4,        ///< a stop signal arrived: checkpoint, then exit 75
+  kRequestRebuild = 1,    ///< a grain moved more than half the skin
+  kRequestCheckpoint = 2, ///< the step or wall-time interval has elapsed
+  kRequestStop = 4,       ///< a stop signal arrived: checkpoint, then exit 75
 };
 
 /// Settings: the deck's [output] values, possibly overridden on the command line.
 struct CheckpointPolicy {
-  std::filesystem::path file;     ///< DIR/checkpoint.h5
-  std::int64_t every_steps = 0;   ///< 0: off
-  double every_seconds = 0;       ///< 0: off
+  std::filesystem::path file;   ///< DIR/checkpoint.h5
+  std::int64_t every_steps = 0; ///< 0: off
+  double every_seconds = 0;     ///< 0: off
   bool enabled() const { return every_steps > 0 || every_seconds > 0; }
 };
 
@@ -93,25 +93,25 @@ private:
   std::chrono::steady_clock::time_point last_, start_;
   int rank_ = 0;
   int written_ = 0;
-  int deferred_ = 0;                  ///< request bits awaiting a list rebuild (take_now)
-  std::int64_t deferred_steps_ = 0;   ///< steps they have waited (> kMaxDeferredSteps: forced)
+  int deferred_ = 0;                ///< request bits awaiting a list rebuild (take_now)
+  std::int64_t deferred_steps_ = 0; ///< steps they have waited (> kMaxDeferredSteps: forced)
 };
 
 /// What a checkpoint says of the run beyond the grains (parsed /run_state).
 struct RunState {
-  int stage_index = 0;     ///< the stage to run (mid_stage: the one in progress)
+  int stage_index = 0; ///< the stage to run (mid_stage: the one in progress)
   bool mid_stage = false;
-  int ranks = 0;           ///< rank count of the writing run
-  std::vector<int> grid;   ///< its domain grid
+  int ranks = 0;         ///< rank count of the writing run
+  std::vector<int> grid; ///< its domain grid
   std::vector<StageReport> completed;
-  std::vector<nlohmann::json> frames;  ///< outermost stage first
+  std::vector<nlohmann::json> frames; ///< outermost stage first
   double wall_seconds = 0;
   /// Checkpoints written before /parameters existed (run_state format 1) stored here what the
   /// stages had changed: restored over the deck's [material] (legacy_parameters).
   struct Legacy {
-    double friction = 0, damping = 0;  ///< as `set` stages left them
-    std::optional<double> normal_stiffness, rolling_stiffness;  ///< `stiffen` (absent before it)
-    std::vector<double> stress;  ///< the last compress stage's target (empty: none)
+    double friction = 0, damping = 0;                          ///< as `set` stages left them
+    std::optional<double> normal_stiffness, rolling_stiffness; ///< `stiffen` (absent before it)
+    std::vector<double> stress; ///< the last compress stage's target (empty: none)
     std::vector<bool> fixed;
     double pressure = 0;
   };
@@ -136,4 +136,4 @@ void check_restart_deck(const Deck& original, const Deck& now, const RunState& s
 nlohmann::json exact(double v);
 double exact_double(const nlohmann::json& j);
 
-}  // namespace granpack
+} // namespace granpack

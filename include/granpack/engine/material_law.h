@@ -17,4 +17,4 @@ double contact_duration(const ContactLawParams& m, double density, const SampleS
 /// for the linear law ([GRC]: K_N/P in 2D).
 double stiffness_number(const ContactLawParams& m, const SampleSpec& s, int dim, double pressure);
 
-}  // namespace granpack
+} // namespace granpack

@@ -15,17 +15,17 @@
 #include "granpack/dynamics/cell_control.h"
 #include "granpack/dynamics/contact_forces.h"
 #include "granpack/dynamics/equilibrium.h"
-#include "granpack/neighbor/verlet_list.h"
 #include "granpack/engine/run_context.h"
 #include "granpack/engine/step_timers.h"
+#include "granpack/neighbor/verlet_list.h"
 
 namespace granpack {
 
 template <int dim> struct MdSettings {
-  double dt = 0;             ///< time step, s
-  double skin = 0;           ///< Verlet skin, m
+  double dt = 0;   ///< time step, s
+  double skin = 0; ///< Verlet skin, m
   bool stress_control = false;
-  CellControl<dim> cell;     ///< used when stress_control
+  CellControl<dim> cell; ///< used when stress_control
   /// Largest overlap h / min(R_i, R_j) accepted before the run stops with a diagnosis.
   double max_overlap = 0.1;
   /// Largest displacement of a grain in one step, as a fraction of the skin, before the run
@@ -48,12 +48,12 @@ template <int dim> MdSettings<dim> deck_md_settings(const RunContext<dim>& ctx) 
 
 /// Global observables after a step (identical on every rank).
 template <int dim> struct MdObservables {
-  Tensor<dim> stress = Tensor<dim>::Zero();          ///< eq. (8): contacts + kinetic, Pa
-  Tensor<dim> stress_elastic = Tensor<dim>::Zero();  ///< elastic contact forces only, Pa
-  double kinetic_energy = 0;                         ///< J (translational + rotational)
-  std::int64_t contacts = 0;                         ///< interacting pairs
-  double max_overlap = 0;                            ///< largest h / min(R_i, R_j)
-  double max_step_displacement = 0;                  ///< largest |v| dt of the step, m
+  Tensor<dim> stress = Tensor<dim>::Zero();         ///< eq. (8): contacts + kinetic, Pa
+  Tensor<dim> stress_elastic = Tensor<dim>::Zero(); ///< elastic contact forces only, Pa
+  double kinetic_energy = 0;                        ///< J (translational + rotational)
+  std::int64_t contacts = 0;                        ///< interacting pairs
+  double max_overlap = 0;                           ///< largest h / min(R_i, R_j)
+  double max_step_displacement = 0;                 ///< largest |v| dt of the step, m
 };
 
 template <int dim> class MdEngine {
@@ -70,7 +70,9 @@ public:
   /// needs one extra pass over the contacts. Moments are measured only when with_moment.
   EquilibriumMeasure measure(const EquilibriumScales& scales, bool with_moment);
   /// Lists the force-carrying contacts (N^e > threshold) of this rank, by local index.
-  template <class F> void for_each_contact(F&& f) const { loop_.for_each_contact(ctx_.system, list_, f); }
+  template <class F> void for_each_contact(F&& f) const {
+    loop_.for_each_contact(ctx_.system, list_, f);
+  }
   const Halo<dim>& halo() const { return halo_; }
   const ContactLaw<dim>& law() const { return law_; }
   std::int64_t rebuilds() const { return rebuilds_; }
@@ -109,4 +111,4 @@ private:
 extern template class MdEngine<2>;
 extern template class MdEngine<3>;
 
-}  // namespace granpack
+} // namespace granpack

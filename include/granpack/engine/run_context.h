@@ -13,12 +13,12 @@
 
 #include "granpack/comm/decomposition.h"
 #include "granpack/core/system.h"
+#include "granpack/engine/checkpoint.h"
+#include "granpack/engine/step_timers.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/log.h"
 #include "granpack/io/report.h"
 #include "granpack/io/state_parameters.h"
-#include "granpack/engine/checkpoint.h"
-#include "granpack/engine/step_timers.h"
 
 namespace granpack {
 
@@ -53,7 +53,8 @@ template <int dim> struct RunContext {
 
   /// Takes the resume frame of the stage starting now (empty json if not resuming).
   nlohmann::json take_resume_frame() {
-    if (resume.empty()) return {};
+    if (resume.empty())
+      return {};
     nlohmann::json f = std::move(resume.front());
     resume.pop_front();
     return f;
@@ -80,4 +81,4 @@ private:
   RunContext<dim>& ctx_;
 };
 
-}  // namespace granpack
+} // namespace granpack

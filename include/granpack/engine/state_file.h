@@ -14,12 +14,14 @@ namespace granpack {
 /// Makes a configuration read from a file the sample: grains, contacts and cell (rate kept),
 /// a domain decomposition (the given grid, else one chosen from the cell's shape) and the
 /// grains and contacts moved to their spatial owners. Collective. Used by `read` and restarts.
-template <int dim> void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
-                                            const std::array<int, dim>* grid = nullptr);
+template <int dim>
+void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
+                         const std::array<int, dim>* grid = nullptr);
 
 /// Writes the current state as an HDF5 configuration file (with its XDMF sidecar); with a
 /// run_state (engine/checkpoint.h) the file is a checkpoint.
-template <int dim> void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
-                                    const std::string& run_state = {});
+template <int dim>
+void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
+                 const std::string& run_state = {});
 
-}  // namespace granpack
+} // namespace granpack

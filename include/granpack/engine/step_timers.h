@@ -16,7 +16,7 @@ namespace granpack {
 
 struct StepTimers {
   double integrate = 0, neighbor = 0, comm = 0, forces = 0;
-  double forces_cpu = 0;  ///< CPU time of the force phase (within `forces`)
+  double forces_cpu = 0; ///< CPU time of the force phase (within `forces`)
   double total() const { return integrate + neighbor + comm + forces; }
   StepTimers& operator+=(const StepTimers& o) {
     integrate += o.integrate, neighbor += o.neighbor, comm += o.comm, forces += o.forces;
@@ -60,4 +60,4 @@ private:
   double t0_;
 };
 
-}  // namespace granpack
+} // namespace granpack

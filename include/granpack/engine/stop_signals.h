@@ -16,4 +16,4 @@ void raise_stop_signal_for_test(int signo);
 /// message: a test that holds a run and never signals it must not hang CI.
 void wait_for_stop_signal(double max_seconds = 600.0);
 
-}  // namespace granpack
+} // namespace granpack

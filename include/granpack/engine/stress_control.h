@@ -3,8 +3,8 @@
 // axes, generalised mass and strain-rate caps from the stage's controls ([AR] sec. II B,
 // [GRC] eq. 3).
 #include "granpack/dynamics/cell_control.h"
-#include "granpack/io/deck.h"
 #include "granpack/engine/run_context.h"
+#include "granpack/io/deck.h"
 
 namespace granpack {
 
@@ -17,4 +17,4 @@ template <int dim> double reference_grain_mass(const RunContext<dim>& ctx);
 /// cap needs P > 0). Collective (the total mass is a sum over ranks).
 template <int dim> CellControl<dim> cell_control_of(RunContext<dim>& ctx, const CompressStage& c);
 
-}  // namespace granpack
+} // namespace granpack

@@ -11,4 +11,4 @@ std::string base64_encode(const std::vector<std::uint8_t>& bytes);
 /// Throws std::invalid_argument on a character outside the alphabet or a bad length.
 std::vector<std::uint8_t> base64_decode(const std::string& text);
 
-}  // namespace granpack
+} // namespace granpack

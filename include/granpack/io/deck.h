@@ -17,60 +17,58 @@ namespace granpack {
 struct SampleSpec {
   int dimension = 3;
   std::int64_t n = 0;
-  double diameter = 0;  ///< a: the (largest) grain diameter, m
-  std::string distribution = "monodisperse";  ///< or "uniform": d uniform in [ratio a, a]
+  double diameter = 0;                       ///< a: the (largest) grain diameter, m
+  std::string distribution = "monodisperse"; ///< or "uniform": d uniform in [ratio a, a]
   double min_diameter_ratio = 0.5;
   std::uint64_t seed = 1;
   friend bool operator==(const SampleSpec&, const SampleSpec&) = default;
 };
 
 struct MaterialSpec {
-  double density = 0;                 ///< kg/m^3 (2D: per unit thickness, kg/m^3 x 1 m)
-  std::string normal_law = "hertz";   ///< "hertz" or "linear"
-  double young_modulus = 0;           ///< E, Pa (hertz)
-  double poisson_ratio = 0;           ///< nu (hertz; also sets K_T/K_N)
-  double normal_stiffness = 0;        ///< K_N, N/m (linear)
-  double tangential_stiffness_ratio = 0;  ///< K_T/K_N (linear; hertz uses (2-2nu)/(2-nu))
-  double friction = 0;                ///< mu, may be inf
-  double damping = 0;                 ///< zeta, fraction of critical damping
+  double density = 0;                    ///< kg/m^3 (2D: per unit thickness, kg/m^3 x 1 m)
+  std::string normal_law = "hertz";      ///< "hertz" or "linear"
+  double young_modulus = 0;              ///< E, Pa (hertz)
+  double poisson_ratio = 0;              ///< nu (hertz; also sets K_T/K_N)
+  double normal_stiffness = 0;           ///< K_N, N/m (linear)
+  double tangential_stiffness_ratio = 0; ///< K_T/K_N (linear; hertz uses (2-2nu)/(2-nu))
+  double friction = 0;                   ///< mu, may be inf
+  double damping = 0;                    ///< zeta, fraction of critical damping
   // [GRC] parts, off when 0 (2D forces are per unit thickness, as every 2D force here).
-  double cohesion_force = 0;          ///< F0, N: maximum attraction (eq. 4-5)
-  double cohesion_range = 0;          ///< D0, m: range of the attraction
-  double rolling_stiffness = 0;       ///< K_r, N m / rad (eq. 9)
-  double rolling_friction = 0;        ///< mu_r, m: |moment| <= mu_r N^e (eq. 10), inf allowed
-  double rolling_damping = 0;         ///< zeta_r, fraction of critical rolling damping (not [GRC])
+  double cohesion_force = 0;    ///< F0, N: maximum attraction (eq. 4-5)
+  double cohesion_range = 0;    ///< D0, m: range of the attraction
+  double rolling_stiffness = 0; ///< K_r, N m / rad (eq. 9)
+  double rolling_friction = 0;  ///< mu_r, m: |moment| <= mu_r N^e (eq. 10), inf allowed
+  double rolling_damping = 0;   ///< zeta_r, fraction of critical rolling damping (not [GRC])
   friend bool operator==(const MaterialSpec&, const MaterialSpec&) = default;
 };
 
 struct NumericsSpec {
-  double time_step_fraction = 0.02;  ///< dt / (contact duration of the stiffest contact)
-  double skin = 0.1;                 ///< Verlet skin, fraction of the largest diameter
+  double time_step_fraction = 0.02; ///< dt / (contact duration of the stiffest contact)
+  double skin = 0.1;                ///< Verlet skin, fraction of the largest diameter
   /// Largest overlap h / min(R_i, R_j) before an MD stage stops with a diagnosis.
   double max_overlap = 0.1;
   friend bool operator==(const NumericsSpec&, const NumericsSpec&) = default;
 };
 
 struct OutputSpec {
-  std::int64_t log_every = 1000;  ///< steps between progress lines
+  std::int64_t log_every = 1000; ///< steps between progress lines
   bool quiet = false;
-  std::int64_t checkpoint_every_steps = 0;   ///< 0: off
-  double checkpoint_every_seconds = 3600.0;  ///< wall seconds; 0: off
+  std::int64_t checkpoint_every_steps = 0;  ///< 0: off
+  double checkpoint_every_seconds = 3600.0; ///< wall seconds; 0: off
   friend bool operator==(const OutputSpec&, const OutputSpec&) = default;
 };
 
-
-
 struct StageSpec {
-  int index = 0;     ///< 0-based position in the deck
-  std::string kind;  ///< one of stage_kinds()
-  std::string name;  ///< user label (defaults to kind)
+  int index = 0;    ///< 0-based position in the deck
+  std::string kind; ///< one of stage_kinds()
+  std::string name; ///< user label (defaults to kind)
   StageParams params;
   friend bool operator==(const StageSpec&, const StageSpec&) = default;
 };
 
 struct Deck {
-  std::string file;  ///< as given by the user, for messages
-  std::string text;  ///< the deck's full text (stored in every output file)
+  std::string file; ///< as given by the user, for messages
+  std::string text; ///< the deck's full text (stored in every output file)
   SampleSpec sample;
   MaterialSpec material;
   NumericsSpec numerics;
@@ -89,4 +87,4 @@ std::string read_deck_text(const std::filesystem::path& path);
 /// Reads the file and parses it.
 Deck load_deck(const std::filesystem::path& path);
 
-}  // namespace granpack
+} // namespace granpack

@@ -20,9 +20,11 @@ struct Range {
   double hi = std::numeric_limits<double>::infinity();
   bool lo_open = false, hi_open = false;
   static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
-  static Range non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
+  static Range non_negative() {
+    return {0.0, std::numeric_limits<double>::infinity(), false, false};
+  }
   static Range closed(double a, double b) { return {a, b, false, false}; }
-  static Range half_open(double a, double b) { return {a, b, false, true}; }  ///< [a, b)
+  static Range half_open(double a, double b) { return {a, b, false, true}; } ///< [a, b)
   static Range open(double a, double b) { return {a, b, true, true}; }
   bool contains(double x) const;
   std::string describe() const;
@@ -42,7 +44,8 @@ public:
                      const std::string& what);
   std::string choice_or(const std::string& key, const std::string& fallback,
                         const std::vector<std::string>& allowed, const std::string& what);
-  std::string string_or(const std::string& key, const std::string& fallback, const std::string& what);
+  std::string string_or(const std::string& key, const std::string& fallback,
+                        const std::string& what);
   bool boolean_or(const std::string& key, bool fallback, const std::string& what);
   std::vector<std::int64_t> integers(const std::string& key, std::size_t count, Range range,
                                      const std::string& what);
@@ -78,4 +81,4 @@ std::string toml_text(const toml::value& v);
 /// DBL_MAX to +-DBL_MAX, which would otherwise be accepted as a valid setting.
 bool number_is_exact(const toml::value& v);
 
-}  // namespace granpack
+} // namespace granpack

@@ -17,6 +17,7 @@ namespace granpack {
 /// The deck text with [sample] seed = `seed` and every explicit stage seed shifted alike.
 /// Throws InputError (naming the file and line) if the deck does not parse, if a seed is not
 /// written as `seed = <integer>` on a line of its own, or if a shifted seed leaves 0..2^63-1.
-std::string reseeded_deck_text(const std::string& text, const std::string& file, std::uint64_t seed);
+std::string reseeded_deck_text(const std::string& text, const std::string& file,
+                               std::uint64_t seed);
 
-}  // namespace granpack
+} // namespace granpack

@@ -72,8 +72,8 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
 template <int dim>
 Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path& path);
 
-/// Collective on comm (cheap: root attributes, /deck, /run_state and /parameters; may be called with
-/// MPI_COMM_SELF on one rank). Used to dispatch on the dimension before read_configuration.
+/// Collective on comm (cheap: root attributes, /deck, /run_state and /parameters; may be called
+/// with MPI_COMM_SELF on one rank). Used to dispatch on the dimension before read_configuration.
 /// Throws InputError like read_configuration.
 FileMeta read_file_meta(MPI_Comm comm, const std::filesystem::path& path);
 

@@ -12,4 +12,4 @@ namespace granpack {
 
 void write_json_as_hdf5(const std::filesystem::path& path, const nlohmann::json& doc);
 
-}  // namespace granpack
+} // namespace granpack

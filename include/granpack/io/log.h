@@ -40,4 +40,4 @@ private:
   std::unique_ptr<std::ofstream> file_;
 };
 
-}  // namespace granpack
+} // namespace granpack

@@ -29,4 +29,4 @@ void check_mpiio_hints();
 /// the caller frees it with MPI_Info_free unless it is MPI_INFO_NULL.
 MPI_Info mpiio_hints_info();
 
-}  // namespace granpack
+} // namespace granpack

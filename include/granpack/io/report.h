@@ -17,26 +17,26 @@ namespace granpack {
 /// restart: since the restart).
 struct PhaseSeconds {
   double forces = 0, neighbor = 0, comm = 0, integrate = 0;
-  double forces_slowest = 0;                 ///< max over ranks of the force phase's wall time
-  double forces_cpu = 0, forces_cpu_slowest = 0;  ///< CPU time: mean and max over ranks
+  double forces_slowest = 0;                     ///< max over ranks of the force phase's wall time
+  double forces_cpu = 0, forces_cpu_slowest = 0; ///< CPU time: mean and max over ranks
   /// The slowest rank's force work over the mean (1: balanced).
   double force_imbalance() const { return forces_cpu > 0 ? forces_cpu_slowest / forces_cpu : 1.0; }
 };
 
 struct StageReport {
   std::string name, kind;
-  std::int64_t steps = 0;        ///< time steps taken by the stage
-  double time = 0;               ///< simulated time spent in the stage, s
+  std::int64_t steps = 0; ///< time steps taken by the stage
+  double time = 0;        ///< simulated time spent in the stage, s
   std::optional<bool> equilibrated;
   std::optional<double> phi, pressure, kappa, inertia_max, z, z_star, x0;
-  std::optional<double> x2;      ///< fraction of grains with exactly 2 backbone contacts
-  std::optional<double> z2;      ///< Z(2) = <N^2>/<N>^2 over backbone contacts (eq. 27)
+  std::optional<double> x2; ///< fraction of grains with exactly 2 backbone contacts
+  std::optional<double> z2; ///< Z(2) = <N^2>/<N>^2 over backbone contacts (eq. 27)
   /// Stage-specific numbers (e.g. collisions per grain of an event-driven stage), in order.
   std::vector<std::pair<std::string, double>> values;
   /// Sub-entries (one per pressure level of pressure_steps), same schema.
   std::vector<StageReport> levels;
   double wall_seconds = 0;
-  std::optional<PhaseSeconds> phase_seconds;  ///< stages with MD steps
+  std::optional<PhaseSeconds> phase_seconds; ///< stages with MD steps
 
   /// Copies the state of the packing (pressure, kappa, z, z*, x0, x2, Z(2)) from another entry.
   void copy_state_metrics(const StageReport& from) {
@@ -55,9 +55,9 @@ struct RunReport {
   int dimension = 3;
   std::int64_t n = 0;
   int ranks = 1;
-  std::string deck;   ///< path of the deck as given
+  std::string deck; ///< path of the deck as given
   std::vector<StageReport> stages;
-  std::string final_file;  ///< relative to the output directory
+  std::string final_file; ///< relative to the output directory
   double wall_seconds = 0;
 };
 
@@ -73,4 +73,4 @@ void write_report(const std::filesystem::path& path, const RunReport& r);
 /// Writes text to path atomically: a crash never leaves a half-written file under that name.
 void write_text_atomically(const std::filesystem::path& path, const std::string& text);
 
-}  // namespace granpack
+} // namespace granpack

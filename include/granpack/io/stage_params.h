@@ -29,31 +29,31 @@ struct StageTable;
 struct LatticeStage {
   static constexpr std::string_view kind = "lattice";
   static LatticeStage parse(StageTable& t);
-  std::string lattice;  ///< "fcc" (3D) or "hex" (2D triangular)
-  double phi = 0;       ///< solid fraction of the lattice
-  std::vector<std::int64_t> cells;  ///< unit cells per axis (n = 4 prod in fcc, 2 prod in hex)
+  std::string lattice;             ///< "fcc" (3D) or "hex" (2D triangular)
+  double phi = 0;                  ///< solid fraction of the lattice
+  std::vector<std::int64_t> cells; ///< unit cells per axis (n = 4 prod in fcc, 2 prod in hex)
   friend bool operator==(const LatticeStage&, const LatticeStage&) = default;
 };
 struct RandomStage {
   static constexpr std::string_view kind = "random";
   static RandomStage parse(StageTable& t);
-  double phi = 0;  ///< solid fraction of the non-overlapping random placement
-  std::string placement = "relax";  ///< "relax" (overlap removal) or "sequential" (RSA)
+  double phi = 0;                  ///< solid fraction of the non-overlapping random placement
+  std::string placement = "relax"; ///< "relax" (overlap removal) or "sequential" (RSA)
   friend bool operator==(const RandomStage&, const RandomStage&) = default;
 };
 struct CompressStage {
   static constexpr std::string_view kind = "compress";
   static CompressStage parse(StageTable& t);
-  double pressure = 0;                  ///< Pa: mean of the prescribed stresses (scales, kappa)
-  std::vector<double> stress;           ///< prescribed Sigma_a per axis, Pa (dim entries)
-  std::vector<bool> fixed;              ///< axes kept at constant length (dim entries)
-  std::optional<double> inertia_max;    ///< cap on I = eps_dot sqrt(m/(aP)), eq. (23)
-  std::optional<double> strain_rate_max;  ///< cap on |dL/dt| / L, 1/s ([GRC] method 2: 0.05/T0)
-  double cell_mass = 1.0;               ///< M / (sum of grain masses)
+  double pressure = 0;                   ///< Pa: mean of the prescribed stresses (scales, kappa)
+  std::vector<double> stress;            ///< prescribed Sigma_a per axis, Pa (dim entries)
+  std::vector<bool> fixed;               ///< axes kept at constant length (dim entries)
+  std::optional<double> inertia_max;     ///< cap on I = eps_dot sqrt(m/(aP)), eq. (23)
+  std::optional<double> strain_rate_max; ///< cap on |dL/dt| / L, 1/s ([GRC] method 2: 0.05/T0)
+  double cell_mass = 1.0;                ///< M / (sum of grain masses)
   /// [GRC] eq. 3 form: M = cell_mass x (sum of grain masses) x a / L0, L0 the mean cell
   /// length at the stage start (M = 0.3 sum m / L in the paper's units of a).
   bool cell_mass_per_length = false;
-  std::int64_t max_steps = 0;           ///< 0: no limit
+  std::int64_t max_steps = 0; ///< 0: no limit
   /// Steps between velocity quenches once the force and stress criteria hold but the kinetic
   /// one does not (0: never). [AR] sec. III checks stability by zeroing the velocities.
   std::int64_t quench_interval = 0;
@@ -61,7 +61,7 @@ struct CompressStage {
   /// drains a floppy packing whose cell breathes on its mechanisms with nothing to damp it.
   /// The criteria are then judged only half an interval or more after a quench.
   bool quench_always = false;
-  EquilibriumTolerances tolerance;  ///< [AR] sec. III criteria
+  EquilibriumTolerances tolerance; ///< [AR] sec. III criteria
   friend bool operator==(const CompressStage&, const CompressStage&) = default;
 };
 struct SetStage {
@@ -73,32 +73,32 @@ struct SetStage {
 struct WriteStage {
   static constexpr std::string_view kind = "write";
   static WriteStage parse(StageTable& t);
-  std::string file;  ///< relative to the output directory
+  std::string file; ///< relative to the output directory
   friend bool operator==(const WriteStage&, const WriteStage&) = default;
 };
 /// Starts from a configuration file written by granpack (grains, contacts, cell).
 struct ReadStage {
   static constexpr std::string_view kind = "read";
   static ReadStage parse(StageTable& t);
-  std::string file;  ///< path as given (relative to the working directory)
+  std::string file; ///< path as given (relative to the working directory)
   friend bool operator==(const ReadStage&, const ReadStage&) = default;
 };
 /// Event-driven hard-sphere gas at fixed volume ([AR] sec. III melting, sec. IV B mixing).
 struct EdGasStage {
   static constexpr std::string_view kind = "ed_gas";
   static EdGasStage parse(StageTable& t);
-  double collisions_per_grain = 0;  ///< n_coll: stop after n_coll * n collisions
-  std::uint64_t seed = 0;           ///< Maxwell velocity draw
+  double collisions_per_grain = 0; ///< n_coll: stop after n_coll * n collisions
+  std::uint64_t seed = 0;          ///< Maxwell velocity draw
   friend bool operator==(const EdGasStage&, const EdGasStage&) = default;
 };
 /// Lubachevsky-Stillinger growth to a solid fraction ([AR] A' samples).
 struct LsCompressStage {
   static constexpr std::string_view kind = "ls_compress";
   static LsCompressStage parse(StageTable& t);
-  double phi = 0;              ///< target solid fraction
-  double growth_rate = 1e-2;   ///< d(diameter)/dt in units of the rms velocity
-  double rescale_every = 1.0;  ///< collisions per grain between kinetic-energy resets
-  std::vector<double> report_phi = {0.49, 0.58};  ///< collisions per grain counted between these
+  double phi = 0;             ///< target solid fraction
+  double growth_rate = 1e-2;  ///< d(diameter)/dt in units of the rms velocity
+  double rescale_every = 1.0; ///< collisions per grain between kinetic-energy resets
+  std::vector<double> report_phi = {0.49, 0.58}; ///< collisions per grain counted between these
   std::uint64_t seed = 0;
   friend bool operator==(const LsCompressStage&, const LsCompressStage&) = default;
 };
@@ -116,8 +116,8 @@ struct PressureStepsStage {
   static PressureStepsStage parse(StageTable& t);
   double factor = 0;
   std::int64_t count = 0;
-  bool write = true;       ///< write each equilibrated level to <name>_<k>.h5
-  CompressStage compress;  ///< controls (inertia_max, cell_mass, max_steps, tolerances)
+  bool write = true;      ///< write each equilibrated level to <name>_<k>.h5
+  CompressStage compress; ///< controls (inertia_max, cell_mass, max_steps, tolerances)
   friend bool operator==(const PressureStepsStage&, const PressureStepsStage&) = default;
 };
 /// Treatment II of [AR] sec. III C: backbone frozen, rattlers pushed by small random forces
@@ -125,11 +125,11 @@ struct PressureStepsStage {
 struct FixRattlersStage {
   static constexpr std::string_view kind = "fix_rattlers";
   static FixRattlersStage parse(StageTable& t);
-  double force = 1e-2;       ///< push magnitude / (a^2 P) (2D: a P)
-  double tolerance = 1e-3;   ///< equilibrium: net force on every rattler < tolerance x push
+  double force = 1e-2;     ///< push magnitude / (a^2 P) (2D: a P)
+  double tolerance = 1e-3; ///< equilibrium: net force on every rattler < tolerance x push
   std::int64_t max_steps = 0;
   std::uint64_t seed = 0;
-  std::optional<double> pressure;  ///< P for the push scale (default: the last compress's)
+  std::optional<double> pressure; ///< P for the push scale (default: the last compress's)
   friend bool operator==(const FixRattlersStage&, const FixRattlersStage&) = default;
 };
 
@@ -138,17 +138,17 @@ struct FixRattlersStage {
 struct AggregateStage {
   static constexpr std::string_view kind = "aggregate";
   static AggregateStage parse(StageTable& t);
-  double velocity_ratio = 0;         ///< V0 / V*, V* = sqrt(F0 D0 / m) ([GRC] eq. 7)
+  double velocity_ratio = 0; ///< V0 / V*, V* = sqrt(F0 D0 / m) ([GRC] eq. 7)
   std::uint64_t seed = 0;
-  std::int64_t max_steps = 0;        ///< 0: no limit
-  std::int64_t cluster_every = 10000;  ///< steps between cluster counts (progress)
+  std::int64_t max_steps = 0;         ///< 0: no limit
+  std::int64_t cluster_every = 10000; ///< steps between cluster counts (progress)
   /// Once all grains form one cluster, steps between velocity quenches (0: never): drains
   /// the slow undamped motions of the floppy aggregate (a deviation from [GRC], docs/deck.md).
   std::int64_t quench_interval = 0;
   /// Steps from the first single cluster to the first quench: the aggregate's floppy parts
   /// first fold freely and close their loops, as in [GRC]; the quenches then only drain.
   std::int64_t quench_delay = 0;
-  EquilibriumTolerances tolerance;   ///< force, moment, kinetic (the cell is fixed)
+  EquilibriumTolerances tolerance; ///< force, moment, kinetic (the cell is fixed)
   friend bool operator==(const AggregateStage&, const AggregateStage&) = default;
 };
 
@@ -157,32 +157,22 @@ struct AggregateStage {
 struct StiffenStage {
   static constexpr std::string_view kind = "stiffen";
   static StiffenStage parse(StageTable& t);
-  double normal_stiffness = 0;       ///< target K_N, N/m (linear law)
-  std::int64_t steps = 0;            ///< time steps of the whole ramp
-  std::int64_t increments = 100;     ///< equal factors of the geometric ramp
-  bool scale_rolling = true;         ///< K_r follows K_N ([GRC] table I: K_r = 1e-4 a^2 K_N)
-  CompressStage control;             ///< prescribed stress, fixed axes, cell mass, rate caps
+  double normal_stiffness = 0;   ///< target K_N, N/m (linear law)
+  std::int64_t steps = 0;        ///< time steps of the whole ramp
+  std::int64_t increments = 100; ///< equal factors of the geometric ramp
+  bool scale_rolling = true;     ///< K_r follows K_N ([GRC] table I: K_r = 1e-4 a^2 K_N)
+  CompressStage control;         ///< prescribed stress, fixed axes, cell mass, rate caps
   friend bool operator==(const StiffenStage&, const StiffenStage&) = default;
 };
 
 /// The registry of stage kinds, one line each, in documentation order: stage_kinds() lists
 /// their names in this order, parse_deck() reads a [[stage]] table with the parse() of the
 /// kind it names, `granpack run` calls run_stage() on the parameters.
-using StageParams = std::variant<LatticeStage,
-                                 RandomStage,
-                                 ReadStage,
-                                 EdGasStage,
-                                 LsCompressStage,
-                                 ExpandStage,
-                                 CompressStage,
-                                 PressureStepsStage,
-                                 FixRattlersStage,
-                                 SetStage,
-                                 WriteStage,
-                                 AggregateStage,
-                                 StiffenStage>;
+using StageParams = std::variant<LatticeStage, RandomStage, ReadStage, EdGasStage, LsCompressStage,
+                                 ExpandStage, CompressStage, PressureStepsStage, FixRattlersStage,
+                                 SetStage, WriteStage, AggregateStage, StiffenStage>;
 
 /// Every stage kind the deck language knows, in documentation order (StageParams' order).
 const std::vector<std::string>& stage_kinds();
 
-}  // namespace granpack
+} // namespace granpack

@@ -15,10 +15,10 @@ namespace granpack {
 /// The stress a packing was last equilibrated under: the target of the last `compress` stage
 /// (or `pressure_steps` level) that ran. `stiffen` and `fix_rattlers` keep it.
 struct StressTarget {
-  int stage = -1;               ///< deck index of the stage that set it; -1: none yet
-  std::vector<double> stress;   ///< prescribed Σ_α per axis, Pa (dim entries; empty if none)
-  std::vector<bool> fixed;      ///< axes held at constant length (dim entries; empty if none)
-  double pressure = 0;          ///< mean Σ_α of the controlled axes, Pa
+  int stage = -1;             ///< deck index of the stage that set it; -1: none yet
+  std::vector<double> stress; ///< prescribed Σ_α per axis, Pa (dim entries; empty if none)
+  std::vector<bool> fixed;    ///< axes held at constant length (dim entries; empty if none)
+  double pressure = 0;        ///< mean Σ_α of the controlled axes, Pa
   bool set() const { return stage >= 0; }
   friend bool operator==(const StressTarget&, const StressTarget&) = default;
 };
@@ -39,4 +39,4 @@ ContactLawParams contact_law_params(const MaterialSpec& m);
 /// the parameters themselves; this replay is kept so that the old ones still read alike.
 StateParameters replayed_parameters(const Deck& deck, int stage_index);
 
-}  // namespace granpack
+} // namespace granpack

@@ -31,4 +31,4 @@ std::vector<Vec<dim>> place_sequentially(const std::vector<double>& diameter, do
                                          std::mt19937_64& rng,
                                          std::int64_t max_attempts_per_grain = 10000000);
 
-}  // namespace granpack
+} // namespace granpack

@@ -12,14 +12,14 @@ namespace granpack {
 
 struct StateMetrics {
   double z = 0, z_star = 0, x0 = 0;
-  double x2 = 0;  ///< fraction of all grains with exactly 2 backbone contacts
-  double z2 = 0;  ///< Z(2) = <N^2>/<N>^2 over the backbone contacts ([AR] eq. 27); 0 if none
+  double x2 = 0; ///< fraction of all grains with exactly 2 backbone contacts
+  double z2 = 0; ///< Z(2) = <N^2>/<N>^2 over the backbone contacts ([AR] eq. 27); 0 if none
   std::int64_t backbone_contacts = 0, rattlers = 0, n = 0;
 };
 
 struct Backbone {
-  std::vector<std::uint8_t> rattler;  ///< per local particle (ghost flags are copies)
-  std::vector<double> counts;         ///< backbone contacts per owned particle
+  std::vector<std::uint8_t> rattler; ///< per local particle (ghost flags are copies)
+  std::vector<double> counts;        ///< backbone contacts per owned particle
   StateMetrics metrics;
 };
 
@@ -30,4 +30,4 @@ Backbone find_backbone(const ParticleStore<dim>& p, const Halo<dim>& halo,
                        const Decomposition<dim>& d, const std::vector<CarryingContact>& carrying,
                        int min_contacts);
 
-}  // namespace granpack
+} // namespace granpack

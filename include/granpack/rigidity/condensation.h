@@ -14,11 +14,11 @@
 namespace granpack {
 
 template <int dim> struct Moduli {
-  Tensor<dim> schur = Tensor<dim>::Zero();      ///< C, scaled (N/m)
-  Tensor<dim> stiffness = Tensor<dim>::Zero();  ///< c_ab (Pa in 3D)
-  double bulk = 0;                              ///< B
-  double shear_diag = 0;                        ///< G_diag
-  double seconds = 0;                           ///< the dim solves and dot products
+  Tensor<dim> schur = Tensor<dim>::Zero();     ///< C, scaled (N/m)
+  Tensor<dim> stiffness = Tensor<dim>::Zero(); ///< c_ab (Pa in 3D)
+  double bulk = 0;                             ///< B
+  double shear_diag = 0;                       ///< G_diag
+  double seconds = 0;                          ///< the dim solves and dot products
 };
 
 /// `stress`: the stress the Omega-change term uses (pass zero for K(1) alone).
@@ -29,4 +29,4 @@ template <int dim>
 Moduli<dim> condense(const BorderedMatrix<dim>& b, const GrainSolve& solve, const Vec<dim>& cell,
                      double volume, const Vec<dim>& stress);
 
-}  // namespace granpack
+} // namespace granpack

@@ -9,9 +9,9 @@ namespace granpack {
 
 struct DirectSolver {
   OwnedKsp ksp;
-  std::int64_t null_pivots = 0;      ///< INFOG(28): pivots below the threshold
-  std::int64_t negative_pivots = 0;  ///< INFOG(12): negative pivots (LDLᵀ only)
-  double seconds = 0;                ///< symbolic + numeric factorisation
+  std::int64_t null_pivots = 0;     ///< INFOG(28): pivots below the threshold
+  std::int64_t negative_pivots = 0; ///< INFOG(12): negative pivots (LDLᵀ only)
+  double seconds = 0;               ///< symbolic + numeric factorisation
 
   /// x = A^{-1} b with the factors (x and b laid out like A's rows).
   void solve(::Vec b, ::Vec x) const;
@@ -23,7 +23,7 @@ struct DirectSolver {
 struct PreconditionedSolver {
   OwnedKsp ksp;
   const DirectSolver* factors = nullptr;
-  std::int64_t iterations = 0;  ///< largest count over the solves so far
+  std::int64_t iterations = 0; ///< largest count over the solves so far
   /// x = A^{-1} b; throws if GMRES does not converge.
   void solve(::Vec b, ::Vec x);
 };
@@ -33,4 +33,4 @@ PreconditionedSolver krylov_with_factors(Mat a, const DirectSolver& factors, dou
 /// is below null_pivot_threshold x the infinity norm of the (scaled) matrix (MUMPS CNTL(3)).
 DirectSolver factorize(Mat a, bool symmetric, double null_pivot_threshold);
 
-}  // namespace granpack
+} // namespace granpack

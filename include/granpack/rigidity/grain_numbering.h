@@ -19,10 +19,10 @@
 namespace granpack {
 
 struct GrainNumbering {
-  std::unordered_map<GlobalId, std::int64_t> index;  ///< backbone grain id -> global index
-  std::vector<GlobalId> ids;                         ///< global index -> grain id
-  std::int64_t grains = 0;                           ///< n*
-  std::int64_t first = 0, local = 0;                 ///< this rank's index range
+  std::unordered_map<GlobalId, std::int64_t> index; ///< backbone grain id -> global index
+  std::vector<GlobalId> ids;                        ///< global index -> grain id
+  std::int64_t grains = 0;                          ///< n*
+  std::int64_t first = 0, local = 0;                ///< this rank's index range
   std::int64_t edge_cut_metis = 0;   ///< backbone contacts whose grains are in two parts
   std::int64_t edge_cut_spatial = 0; ///< same for the spatial decomposition's ownership
   bool metis = false;                ///< false on one rank (nothing to partition)
@@ -33,4 +33,4 @@ struct GrainNumbering {
 GrainNumbering number_backbone_grains(MPI_Comm comm, const std::vector<GlobalId>& owned_grains,
                                       const std::vector<std::pair<GlobalId, GlobalId>>& edges);
 
-}  // namespace granpack
+} // namespace granpack

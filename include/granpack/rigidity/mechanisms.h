@@ -26,7 +26,7 @@ struct DivalentGrain {
 
 struct KnownMechanisms {
   std::vector<DivalentGrain> divalent;
-  double divalent_residual = 0;  ///< |K(1) V| / (<k_n> |V|), V the sum of the rolling modes
+  double divalent_residual = 0; ///< |K(1) V| / (<k_n> |V|), V the sum of the rolling modes
   GlobalId pinned_grain = -1;
 };
 
@@ -47,7 +47,8 @@ std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int 
 /// (98 on one rank, 90 on two for the same floppy network, whose nullity is larger). Each
 /// mode lists the ids of the grains carrying at least 10 % of its largest per-grain amplitude
 /// (at most 50, largest first). Collective.
-std::vector<std::vector<GlobalId>> floppy_modes(Mat a, const GrainNumbering& numbering, int grain_dofs,
-                                                double mean_kn, int count, double shift, double tolerance);
+std::vector<std::vector<GlobalId>> floppy_modes(Mat a, const GrainNumbering& numbering,
+                                                int grain_dofs, double mean_kn, int count,
+                                                double shift, double tolerance);
 
-}  // namespace granpack
+} // namespace granpack

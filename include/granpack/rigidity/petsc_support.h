@@ -18,7 +18,7 @@ namespace granpack {
 
 namespace detail {
 [[noreturn]] void petsc_failed(PetscErrorCode code, const char* call, const char* file, int line);
-}  // namespace detail
+} // namespace detail
 
 /// Starts SLEPc (and PETSc) once per process if nobody did; never finalises (PETSc cannot be
 /// restarted): the executable calls finalize_petsc() before MPI_Finalize.
@@ -40,7 +40,8 @@ public:
   }
   ~PetscHandle() { reset(); }
   void reset() {
-    if (h_) destroy(&h_);
+    if (h_)
+      destroy(&h_);
     h_ = nullptr;
   }
   T* address() { return &h_; }
@@ -55,12 +56,12 @@ using OwnedMat = PetscHandle<Mat, MatDestroy>;
 using OwnedVec = PetscHandle<::Vec, VecDestroy>;
 using OwnedKsp = PetscHandle<KSP, KSPDestroy>;
 
-}  // namespace granpack
+} // namespace granpack
 
 /// Checks a PETSc call: throws granpack::Error naming the call when it fails.
-#define GRANPACK_PETSC(call)                                                               \
-  do {                                                                                     \
-    const PetscErrorCode granpack_petsc_code_ = (call);                                    \
-    if (granpack_petsc_code_ != 0)                                                         \
-      ::granpack::detail::petsc_failed(granpack_petsc_code_, #call, __FILE__, __LINE__);   \
+#define GRANPACK_PETSC(call)                                                                       \
+  do {                                                                                             \
+    const PetscErrorCode granpack_petsc_code_ = (call);                                            \
+    if (granpack_petsc_code_ != 0)                                                                 \
+      ::granpack::detail::petsc_failed(granpack_petsc_code_, #call, __FILE__, __LINE__);           \
   } while (0)

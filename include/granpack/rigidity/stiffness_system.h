@@ -24,7 +24,7 @@ namespace granpack {
 /// One contact point of a divalent backbone grain (two records per such grain).
 struct DivalentContact {
   GlobalId grain = 0, neighbour = 0;
-  double branch[3] = {0, 0, 0};  ///< from the grain's centre to the contact point
+  double branch[3] = {0, 0, 0}; ///< from the grain's centre to the contact point
 };
 
 /// The stiffness matrix's grain block and its border, for one of K(1) or K(1) + K(2).
@@ -39,26 +39,26 @@ template <int dim> struct StiffnessSystem {
   MPI_Comm comm = MPI_COMM_WORLD;
   RigidityLayout<dim> layout;
   GrainNumbering numbering;
-  std::int64_t contacts = 0;      ///< N_c^*: backbone contacts (distant pairs included)
-  std::int64_t distant = 0;       ///< N_d: distant attractions among them ([GRC] eq. 19)
-  std::int64_t rows = 0;          ///< rows of G: M of [GRC] App. A
-  double mean_kn = 0;             ///< <k_n> over the contacts in touch (N/m): the matrices' scale
-  OwnedMat G;                     ///< rows x N_f, strain columns last
-  OwnedVec f;                     ///< contact forces in G's row space
-  BorderedMatrix<dim> k1;         ///< constitutive K(1), eq. (18): symmetric
-  BorderedMatrix<dim> k;          ///< K(1) + K(2), App. B: unsymmetric with friction
+  std::int64_t contacts = 0; ///< N_c^*: backbone contacts (distant pairs included)
+  std::int64_t distant = 0;  ///< N_d: distant attractions among them ([GRC] eq. 19)
+  std::int64_t rows = 0;     ///< rows of G: M of [GRC] App. A
+  double mean_kn = 0;        ///< <k_n> over the contacts in touch (N/m): the matrices' scale
+  OwnedMat G;                ///< rows x N_f, strain columns last
+  OwnedVec f;                ///< contact forces in G's row space
+  BorderedMatrix<dim> k1;    ///< constitutive K(1), eq. (18): symmetric
+  BorderedMatrix<dim> k;     ///< K(1) + K(2), App. B: unsymmetric with friction
   /// ᵀG |𝒦| G, assembled only when there are distant pairs: their -F0/D0 makes K(1)
   /// indefinite, so that its null space is no longer that of G ([GRC] App. A); with every
   /// stiffness positive the null space is exactly the mechanisms.
   BorderedMatrix<dim> gram;
   bool has_gram() const { return distant > 0; }
-  std::vector<DivalentContact> divalent;  ///< all ranks' records (3D with friction only)
+  std::vector<DivalentContact> divalent; ///< all ranks' records (3D with friction only)
   double assembly_seconds = 0;
 
   int grain_dofs() const { return layout.grain_dofs(); }
   /// The matrix whose null space is that of G: K(1), or `gram` with distant pairs.
   BorderedMatrix<dim>& mechanism_matrix() { return has_gram() ? gram : k1; }
-  std::int64_t dof() const { return numbering.grains * grain_dofs() + dim; }  ///< N_f
+  std::int64_t dof() const { return numbering.grains * grain_dofs() + dim; } ///< N_f
 };
 
 /// Builds every matrix from the view's backbone contacts (on_backbone). `law` must be the
@@ -73,13 +73,15 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
 /// stiffness at the file's state.
 template <int dim>
 RigidityContact<dim> make_rigidity_contact(const PackingView<dim>& v, const ContactView<dim>& c,
-                                           const ContactLaw<dim>& law, const RigidityLayout<dim>& layout);
+                                           const ContactLaw<dim>& law,
+                                           const RigidityLayout<dim>& layout);
 
 /// The contact-view predicate used everywhere: on the backbone and carrying force, or, on an
 /// interaction network (select_interaction_network), any pair between two of its grains.
 template <int dim> bool on_backbone(const PackingView<dim>& v, const ContactView<dim>& c) {
-  if (v.rattler(c.i) || v.rattler(c.j)) return false;
+  if (v.rattler(c.i) || v.rattler(c.j))
+    return false;
   return v.interaction_network || c.normal_force > v.force_threshold;
 }
 
-}  // namespace granpack
+} // namespace granpack

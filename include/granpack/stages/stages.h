@@ -6,10 +6,10 @@
 // kind without a runner here does not compile.
 #include <array>
 
-#include "granpack/io/deck.h"
-#include "granpack/io/hdf5_store.h"
 #include "granpack/engine/run_context.h"
 #include "granpack/engine/state_file.h"
+#include "granpack/io/deck.h"
+#include "granpack/io/hdf5_store.h"
 
 namespace granpack {
 
@@ -30,4 +30,4 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const StiffenStag
 /// Removes the overlaps of randomly placed grains (fixed cell, soft repulsion, quench).
 template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx);
 
-}  // namespace granpack
+} // namespace granpack

@@ -2,8 +2,8 @@
 // Contact-network metrics of the engine's current state for report.json: x0 by the iterative
 // rule of [AR] sec. III B, z = 2 N_c / n and z* = z / (1 - x0), N_c counting force-carrying
 // contacts (N^e above a threshold) between non-rattlers. Collective.
-#include "granpack/packing/backbone.h"
 #include "granpack/engine/md_engine.h"
+#include "granpack/packing/backbone.h"
 
 namespace granpack {
 
@@ -18,7 +18,7 @@ StateMetrics state_metrics(RunContext<dim>& ctx, const MdEngine<dim>& engine, do
 /// contacts at the isolated deflection h0 carry N^e = F0, N = 0). z = 2 N_int / n.
 struct CohesiveCoordination {
   double z = 0, z_plus = 0, z_minus = 0, z_zero = 0;
-  double distant_fraction = 0;  ///< distant pairs / all interactions
+  double distant_fraction = 0; ///< distant pairs / all interactions
 };
 
 /// Collective.
@@ -26,4 +26,4 @@ template <int dim>
 CohesiveCoordination cohesive_coordination(RunContext<dim>& ctx, const MdEngine<dim>& engine,
                                            double threshold);
 
-}  // namespace granpack
+} // namespace granpack
