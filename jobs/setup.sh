@@ -22,6 +22,7 @@ packages=(
   libopenblas0-pthread   # becomes libblas.so.3: MUMPS factorisations 10-100x faster (docs/stiffness.md)
   libeigen3-dev libfftw3-dev libtoml11-dev libcli11-dev nlohmann-json3-dev libgtest-dev
   python3-numpy python3-h5py python3-matplotlib
+  clang-format   # tests/cli/format.sh checks the layout of the C++ files
 )
 missing=()
 for p in "${packages[@]}"; do
