@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
+#include <string>
 
 namespace granpack {
 
@@ -52,8 +54,37 @@ PreconditionedSolver krylov_with_factors(Mat a, const DirectSolver& factors, dou
   return s;
 }
 
-DirectSolver factorize(Mat a, bool symmetric, double null_pivot_threshold) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+/// Sets a PETSc run-time option for the lifetime of this object, then restores what was
+/// there (the user's value, or nothing).
+class ScopedOption {
+public:
+  ScopedOption(const char* name, const std::string& value) : name_(name) {
+    char previous[256] = "";
+    PetscBool set = PETSC_FALSE;
+    GRANPACK_PETSC(PetscOptionsGetString(nullptr, nullptr, name, previous, sizeof previous, &set));
+    if (set)
+      previous_ = previous;
+    GRANPACK_PETSC(PetscOptionsSetValue(nullptr, name, value.c_str()));
+  }
+  ScopedOption(const ScopedOption&) = delete;
+  ScopedOption& operator=(const ScopedOption&) = delete;
+  ~ScopedOption() {
+    if (previous_)
+      PetscOptionsSetValue(nullptr, name_, previous_->c_str());
+    else
+      PetscOptionsClearValue(nullptr, name_);
+  }
+
+private:
+  const char* name_;
+  std::optional<std::string> previous_;
+};
+
+/// One factorisation attempt; INFOG(1) and the ICNTL(14) used (MUMPS's extra workspace over
+/// its analysis's estimate, in %) are returned in `info` and `percent_used`.
+DirectSolver attempt(Mat a, bool symmetric, double null_pivot_threshold, PetscInt& info,
+                     PetscInt& percent_used) {
   MPI_Comm comm = MPI_COMM_NULL;
   GRANPACK_PETSC(PetscObjectGetComm(reinterpret_cast<PetscObject>(a), &comm));
   DirectSolver s;
@@ -74,15 +105,42 @@ DirectSolver factorize(Mat a, bool symmetric, double null_pivot_threshold) {
   GRANPACK_PETSC(MatMumpsSetCntl(f, 3, null_pivot_threshold));
   GRANPACK_PETSC(KSPSetFromOptions(s.ksp));
   GRANPACK_PETSC(KSPSetUp(s.ksp));
-  PetscInt info = 0;
+  GRANPACK_PETSC(MatMumpsGetIcntl(f, 14, &percent_used));
   GRANPACK_PETSC(MatMumpsGetInfog(f, 1, &info));
-  GRANPACK_CHECK(info >= 0, "stiffness: MUMPS factorisation failed, INFOG(1) = " << info);
-  GRANPACK_PETSC(MatMumpsGetInfog(f, 28, &info));
-  s.null_pivots = info;
+  if (info < 0)
+    return s;
+  PetscInt value = 0;
+  GRANPACK_PETSC(MatMumpsGetInfog(f, 28, &value));
+  s.null_pivots = value;
   if (symmetric) {
-    GRANPACK_PETSC(MatMumpsGetInfog(f, 12, &info));
-    s.negative_pivots = info;
+    GRANPACK_PETSC(MatMumpsGetInfog(f, 12, &value));
+    s.negative_pivots = value;
   }
+  return s;
+}
+} // namespace
+
+DirectSolver factorize(Mat a, bool symmetric, double null_pivot_threshold) {
+  const auto start = std::chrono::steady_clock::now();
+  // MUMPS sizes its workspace from the analysis; null and delayed pivots (the singular K(1) of
+  // a crystal, the mechanisms of a loose packing) can need more than that estimate, and how
+  // much more depends on the parallel ordering, which varies between runs on 3 or more ranks
+  // (INFOG(1) = -9 in 2 of 8 runs of the FCC crystal on 4 ranks). MUMPS's remedy for -8, -9,
+  // -11 and -12 (workspace too small) is a larger ICNTL(14) and a new factorisation: up to
+  // three more attempts, the extra workspace four times larger each time.
+  PetscInt info = 0, percent = 0;
+  DirectSolver s = attempt(a, symmetric, null_pivot_threshold, info, percent);
+  for (int retry = 0; retry < 3 && (info == -8 || info == -9 || info == -11 || info == -12);
+       ++retry) {
+    // Through the options database, where PETSc reads ICNTL(14) at the factorisation (a value
+    // set on the factor before would be overwritten by a run-time option of the user's).
+    const ScopedOption larger("-stiffness_mat_mumps_icntl_14",
+                              std::to_string(4 * std::max<PetscInt>(percent, 20)));
+    s = attempt(a, symmetric, null_pivot_threshold, info, percent);
+  }
+  GRANPACK_CHECK(info >= 0, "stiffness: MUMPS factorisation failed, INFOG(1) = "
+                                << info << " (with ICNTL(14) = " << percent
+                                << " % extra workspace)");
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
 }

@@ -1,11 +1,13 @@
-// `granpack analyze` on a packing written by the engine: known values on the FCC case, and
-// the same results on 1 rank as on all ranks (counts exactly, reals within 1e-12).
+// `granpack analyze` on a packing written by the engine (on at most 2 ranks: few_ranks.h):
+// known values on the FCC case, and the same results on 1 rank as on all ranks (counts
+// exactly, reals within 1e-12).
 #include <gtest/gtest.h>
 #include <mpi.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "few_ranks.h"
 #include "granpack/app/analyze.h"
 #include "granpack/app/run_deck.h"
 #include "test_paths.h"
@@ -21,7 +23,7 @@ TEST(Analyze, FccPackingAndRankCountInvariance) {
   opt.deck = test::source_dir() / "jobs/decks/ci/fcc_hertz.toml";
   opt.output_dir = out;
   opt.quiet = true;
-  ASSERT_EQ(run_deck(MPI_COMM_WORLD, opt), 0);
+  ASSERT_EQ(test::run_deck_on_few_ranks(opt), 0);
 
   AnalyzeOptions a;
   a.file = out / "final.h5";

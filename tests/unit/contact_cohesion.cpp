@@ -364,7 +364,8 @@ TYPED_TEST(ContactCohesionTest, RollingDampingGivesTheDampedOscillatorDecrement)
     std::printf("dim %d zeta_r %.2f: z %.5f, maxima ratio %.6f, expected %.6f\n", dim, zeta_r, z,
                 maxima[2] / maxima[1], expected);
     EXPECT_NEAR(maxima[2] / maxima[1], expected, 1e-3);
-    if (zeta_r == 0)
+    if (zeta_r == 0) {
       EXPECT_NEAR(maxima[2] / maxima[1], 1.0, 1e-6);
+    }
   }
 }
