@@ -9,6 +9,7 @@
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/communicator.h"
+#include "granpack/comm/rebalance.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/engine/checkpoint.h"
@@ -110,7 +111,12 @@ void restore(RunContext<dim>& ctx, const std::filesystem::path& file, const RunS
   if (same_grid)
     std::copy(state.grid.begin(), state.grid.end(), grid.begin());
   const std::array<int, dim>* chosen = same_grid ? &grid : nullptr;
-  adopt_configuration<dim>(ctx, std::move(c), chosen);
+  // The cut planes come with the grid (on another rank count the grid is new and uniform).
+  std::array<std::vector<double>, dim> cuts;
+  const bool with_cuts = same_grid && state.cuts.size() == dim;
+  if (with_cuts)
+    std::copy(state.cuts.begin(), state.cuts.end(), cuts.begin());
+  adopt_configuration<dim>(ctx, std::move(c), chosen, with_cuts ? &cuts : nullptr);
   ctx.resume.assign(state.frames.begin(), state.frames.end());
   ctx.resume_mid_step = state.mid_stage;
 }
@@ -147,6 +153,7 @@ void run_stages(MPI_Comm world, const Deck& deck, Log& log, const std::filesyste
     log.info("stage " + std::to_string(st.index) + " '" + st.name + "' (" + st.kind + ")");
     auto t0 = std::chrono::steady_clock::now();
     ctx.stage_timers = {};
+    ctx.stage_rebalances = 0;
     // The runner of the stage's kind (stages/stages.h; the registry: io/stage_params.h).
     StageReport r = std::visit([&](const auto& p) { return run_stage(ctx, p); }, st.params);
     r.phase_seconds = phase_seconds_over_ranks(world, ctx.stage_timers);
@@ -163,6 +170,15 @@ void run_stages(MPI_Comm world, const Deck& deck, Log& log, const std::filesyste
     report.stages.push_back(r);
     if (r.phase_seconds)
       log.info(phase_line(*r.phase_seconds));
+    if (deck.numerics.load_balance && ctx.decomposition && ctx.decomposition->size() > 1) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "  load balance: cut planes moved at %lld rebuilds; grains on the fullest "
+                    "rank / mean now %.3f",
+                    static_cast<long long>(ctx.stage_rebalances),
+                    grain_imbalance(world, ctx.system.particles.n_owned()));
+      log.info(buf);
+    }
     log.info("  done: phi " + fmt_opt(r.phi) + ", steps " + std::to_string(r.steps) + ", wall " +
              fmt_opt(r.wall_seconds) + " s");
     // Between stages: a checkpoint (cheap next to a stage), and the place where a stage

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <numeric>
 
+#include "granpack/core/cut_planes.h"
+#include "granpack/core/error.h"
+
 namespace granpack {
 
 template <int dim> Decomposition<dim>::Decomposition(MPI_Comm world, const Vec<dim>& cell_lengths) {
@@ -34,10 +37,38 @@ template <int dim> void Decomposition<dim>::create_grid(MPI_Comm world) {
   MPI_Comm_rank(cart_, &rank_);
   MPI_Comm_size(cart_, &size_);
   MPI_Cart_coords(cart_, rank_, dim, coords_.data());
+  for (int a = 0; a < dim; ++a)
+    cuts_[a] = uniform_cuts(dims_[a]);
+  uniform_ = true;
+  update_box();
+}
+
+template <int dim> void Decomposition<dim>::update_box() {
   for (int a = 0; a < dim; ++a) {
-    lo_[a] = double(coords_[a]) / dims_[a];
-    hi_[a] = double(coords_[a] + 1) / dims_[a];
+    lo_[a] = cuts_[a][coords_[a]];
+    hi_[a] = cuts_[a][coords_[a] + 1];
   }
+}
+
+template <int dim>
+void Decomposition<dim>::set_cuts(const std::array<std::vector<double>, dim>& cuts) {
+  bool uniform = true;
+  for (int a = 0; a < dim; ++a) {
+    const auto& c = cuts[a];
+    GRANPACK_CHECK(c.size() == static_cast<std::size_t>(dims_[a]) + 1 && c.front() == 0.0 &&
+                       c.back() == 1.0 && std::is_sorted(c.begin(), c.end()) &&
+                       std::adjacent_find(c.begin(), c.end()) == c.end(),
+                   "axis " << a << ": " << c.size() << " cut planes for " << dims_[a]
+                           << " slabs, or not increasing from 0 to 1");
+    uniform = uniform && c == uniform_cuts(dims_[a]);
+  }
+  cuts_ = cuts;
+  uniform_ = uniform;
+  update_box();
+}
+
+template <int dim> double Decomposition<dim>::narrowest(int a) const {
+  return narrowest_slab(cuts_[a]);
 }
 
 template <int dim> Decomposition<dim>::~Decomposition() {
@@ -47,8 +78,16 @@ template <int dim> Decomposition<dim>::~Decomposition() {
 
 template <int dim> int Decomposition<dim>::owner_of(const Vec<dim>& s) const {
   std::array<int, dim> c;
-  for (int a = 0; a < dim; ++a)
-    c[a] = std::clamp(static_cast<int>(s[a] * dims_[a]), 0, dims_[a] - 1);
+  for (int a = 0; a < dim; ++a) {
+    if (uniform_) {
+      // The static grid's expression, kept bit for bit (a grain on a plane stays with its rank).
+      c[a] = std::clamp(static_cast<int>(s[a] * dims_[a]), 0, dims_[a] - 1);
+    } else {
+      // Slab k holds [c_k, c_k+1): the number of inner planes at or below s.
+      const auto& k = cuts_[a];
+      c[a] = static_cast<int>(std::upper_bound(k.begin() + 1, k.end() - 1, s[a]) - (k.begin() + 1));
+    }
+  }
   int r = 0;
   MPI_Cart_rank(cart_, c.data(), &r);
   return r;

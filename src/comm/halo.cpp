@@ -49,12 +49,14 @@ void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, cons
   int me = 0;
   MPI_Comm_rank(d.comm(), &me);
   for (int a = 0; a < dim; ++a) {
-    const double box = d.hi()[a] - d.lo()[a];
-    // The same on every rank (the grid and the width are global), so every rank throws
-    // together. Ghosts come from the nearest sub-domain only: a narrower one would lose pairs.
+    // The narrowest slab of the axis, the same on every rank (the cuts and the width are
+    // global), so every rank throws together. Ghosts come from the nearest sub-domain only: a
+    // narrower one would lose pairs.
+    const double box = d.narrowest(a);
     if (width[a] > box) {
       std::ostringstream os;
-      os << d.dims()[a] << " ranks along axis " << a << " cut the cell into sub-domains of " << box
+      os << d.dims()[a] << " ranks along axis " << a << " cut the cell into sub-domains of "
+         << (d.uniform() ? "" : "(the narrowest) ") << box
          << " of its length, narrower than the interaction range of the grains (ghost "
          << "layer: " << width[a] << " of the cell length): run on fewer ranks (at most "
          << static_cast<int>(1.0 / width[a]) << " along this axis) or on a larger sample";

@@ -88,6 +88,17 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
   const int size = size_of(world_);
   st["ranks"] = size;
   st["grid"] = std::vector<int>(ctx.decomposition->dims().begin(), ctx.decomposition->dims().end());
+  // Moved cut planes (load balancing) are part of the state: a restart on the same rank count
+  // puts every grain on the same rank, so its sums run in the same order (bit for bit).
+  if (!ctx.decomposition->uniform()) {
+    st["cuts"] = nlohmann::json::array();
+    for (int a = 0; a < dim; ++a) {
+      nlohmann::json axis = nlohmann::json::array();
+      for (const double c : ctx.decomposition->cuts(a))
+        axis.push_back(exact(c));
+      st["cuts"].push_back(axis);
+    }
+  }
   st["completed"] = nlohmann::json::array();
   if (completed)
     for (const auto& r : *completed)
@@ -132,6 +143,12 @@ RunState parse_run_state(const std::string& text, const std::string& file) {
     s.mid_stage = j.at("mid_stage").get<bool>();
     s.ranks = j.at("ranks").get<int>();
     s.grid = j.at("grid").get<std::vector<int>>();
+    if (j.contains("cuts"))
+      for (const auto& axis : j.at("cuts")) {
+        s.cuts.emplace_back();
+        for (const auto& v : axis)
+          s.cuts.back().push_back(exact_double(v));
+      }
     for (const auto& r : j.at("completed"))
       s.completed.push_back(stage_report_from_json(r.dump()));
     if (format == 1) {
@@ -169,6 +186,20 @@ RunState parse_run_state(const std::string& text, const std::string& file) {
     throw InputError(file + ": /run_state's domain grid (" + (grid.empty() ? "empty" : grid) +
                      ") does not fit its rank count " + std::to_string(s.ranks) +
                      ": a damaged checkpoint");
+  }
+  if (!s.cuts.empty()) {
+    bool fits = s.cuts.size() == s.grid.size();
+    for (std::size_t a = 0; fits && a < s.cuts.size(); ++a) {
+      const auto& c = s.cuts[a];
+      fits = c.size() == static_cast<std::size_t>(s.grid[a]) + 1 && c.front() == 0.0 &&
+             c.back() == 1.0;
+      for (std::size_t k = 0; fits && k + 1 < c.size(); ++k)
+        fits = c[k] < c[k + 1];
+    }
+    if (!fits)
+      throw InputError(file + ": /run_state's cut planes do not fit its domain grid (each axis "
+                              "needs grid + 1 increasing positions from 0 to 1): a damaged "
+                              "checkpoint");
   }
   return s;
 }

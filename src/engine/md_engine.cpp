@@ -9,6 +9,7 @@
 #include "granpack/comm/communicator.h"
 #include "granpack/comm/fault_injection.h"
 #include "granpack/comm/migration.h"
+#include "granpack/comm/rebalance.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/core/error.h"
 #include "granpack/dynamics/integrator.h"
@@ -40,12 +41,45 @@ MdEngine<dim>::MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law,
 
 template <int dim> void MdEngine<dim>::rebuild() {
   auto& sys = ctx_.system;
+  auto& d = *ctx_.decomposition;
+  // Ghost layer: every grain that can come within reach of ours before the next rebuild.
+  const double cutoff = 2 * max_radius_ + law_.interaction_range() + settings_.skin;
+  const Vec<dim> width = Vec<dim>::Constant(cutoff).cwiseQuotient(sys.cell.length);
+  const bool balancing = settings_.load_balance_threshold > 0 && d.size() > 1;
   {
     ScopedPhase t(timers_.comm);
     sys.particles.clear_ghosts();
-    migrate(sys, *ctx_.decomposition);
-    // Ghost layer: every grain that can come within reach of ours before the next rebuild.
-    const double cutoff = 2 * max_radius_ + law_.interaction_range() + settings_.skin;
+    migrate(sys, d);
+    // Moved planes that the shrinking cell made narrower than the ghost layer: new ones (by
+    // grain count: the list that gives the work is not built yet) before the halo needs them.
+    if (balancing && planes_too_narrow(d, width) &&
+        rebalance_if_needed(d, sys.particles, {}, settings_.load_balance_threshold, width)) {
+      migrate(sys, d);
+      ++rebalances_;
+    }
+  }
+  build_halo_and_list(cutoff);
+  // Load balancing by the work of the new lists, decided from the positions, the cell and the
+  // planes alone, so that a restart (whose checkpoint holds the planes) repeats every decision.
+  if (balancing) {
+    const std::vector<std::int64_t> work = grain_work();
+    if (rebalance_if_needed(d, sys.particles, work, settings_.load_balance_threshold, width)) {
+      {
+        ScopedPhase t(timers_.comm);
+        sys.particles.clear_ghosts();
+        migrate(sys, d);
+      }
+      build_halo_and_list(cutoff);
+      ++rebalances_;
+    }
+  }
+  ++rebuilds_;
+}
+
+template <int dim> void MdEngine<dim>::build_halo_and_list(double cutoff) {
+  auto& sys = ctx_.system;
+  {
+    ScopedPhase t(timers_.comm);
     // Grains in a canonical spatial order (bins of about the list's cutoff, then id): the
     // pair loop then finds a grain's neighbours close in memory (docs/performance.md), and
     // every later sum (forces, virial, reductions) follows an order that depends on the
@@ -62,7 +96,28 @@ template <int dim> void MdEngine<dim>::rebuild() {
     list_.build(sys.particles, sys.cell, NeighborParams{settings_.skin, law_.interaction_range()});
   });
   loop_.bind(sys.particles, list_, sys.contacts);
-  ++rebuilds_;
+}
+
+template <int dim> std::vector<std::int64_t> MdEngine<dim>::grain_work() {
+  // 2 per grain and 1 per listed pair it belongs to: a grain costs about what a pair costs
+  // (integration and list building against one force evaluation). The pairs a rank lists with
+  // a ghost reach the ghost's owner by reverse communication, so a grain's count is the same on
+  // any decomposition (the lists hold every pair within the cutoff once).
+  const auto& p = ctx_.system.particles;
+  std::vector<double> ends(p.size(), 0.0);
+  for (std::size_t i = 0; i < list_.n_owned(); ++i) {
+    ends[i] += static_cast<double>(list_.end(i) - list_.begin(i));
+    for (const std::uint32_t* j = list_.begin(i); j != list_.end(i); ++j)
+      ends[*j] += 1.0;
+  }
+  {
+    ScopedPhase t(timers_.comm);
+    halo_.reverse_values(ends, *ctx_.decomposition);
+  }
+  std::vector<std::int64_t> work(p.n_owned());
+  for (std::size_t i = 0; i < p.n_owned(); ++i)
+    work[i] = 2 + static_cast<std::int64_t>(ends[i]);
+  return work;
 }
 
 template <int dim> void MdEngine<dim>::forces_and_observables() {

@@ -6,13 +6,16 @@ namespace granpack {
 
 template <int dim>
 void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
-                         const std::array<int, dim>* grid) {
+                         const std::array<int, dim>* grid,
+                         const std::array<std::vector<double>, dim>* cuts) {
   ctx.system.cell = c.cell;
   ctx.system.particles = std::move(c.particles);
   ctx.system.contacts = std::move(c.contacts);
   ctx.decomposition = grid
                           ? std::make_unique<Decomposition<dim>>(ctx.world, *grid)
                           : std::make_unique<Decomposition<dim>>(ctx.world, ctx.system.cell.length);
+  if (grid && cuts)
+    ctx.decomposition->set_cuts(*cuts);
   distribute(ctx.system, *ctx.decomposition);
 }
 
@@ -40,8 +43,10 @@ void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
   write_configuration<dim>(ctx.world, file, c);
 }
 
-template void adopt_configuration<2>(RunContext<2>&, Configuration<2>&&, const std::array<int, 2>*);
-template void adopt_configuration<3>(RunContext<3>&, Configuration<3>&&, const std::array<int, 3>*);
+template void adopt_configuration<2>(RunContext<2>&, Configuration<2>&&, const std::array<int, 2>*,
+                                     const std::array<std::vector<double>, 2>*);
+template void adopt_configuration<3>(RunContext<3>&, Configuration<3>&&, const std::array<int, 3>*,
+                                     const std::array<std::vector<double>, 3>*);
 template void write_state<2>(RunContext<2>&, const std::filesystem::path&, const std::string&);
 template void write_state<3>(RunContext<3>&, const std::filesystem::path&, const std::string&);
 

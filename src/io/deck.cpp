@@ -218,6 +218,12 @@ NumericsSpec read_numerics(TableReader& r) {
   n.max_overlap =
       r.number_or("max_overlap", n.max_overlap, Range{0.0, 1.0, true, false},
                   "largest overlap / smaller radius before a run stops (a blow-up check)");
+  n.load_balance = r.boolean_or("load_balance", n.load_balance,
+                                "move the domain cut planes to balance the grain counts");
+  n.load_balance_threshold =
+      r.number_or("load_balance_threshold", n.load_balance_threshold,
+                  Range{1.0, std::numeric_limits<double>::infinity(), true, false},
+                  "largest rank's grain count over the mean above which the cut planes move");
   r.finish();
   return n;
 }

@@ -125,22 +125,23 @@ bool number_is_exact(const toml::value& v) {
   return expect == v.as_integer();
 }
 
+/// The value's TOML type with its article ("an integer"), for "= 1 is an integer, expected ...".
 static const char* type_name(const toml::value& v) {
   switch (v.type()) {
   case toml::value_t::boolean:
-    return "boolean";
+    return "a boolean";
   case toml::value_t::integer:
-    return "integer";
+    return "an integer";
   case toml::value_t::floating:
-    return "float";
+    return "a float";
   case toml::value_t::string:
-    return "string";
+    return "a string";
   case toml::value_t::array:
-    return "array";
+    return "an array";
   case toml::value_t::table:
-    return "table";
+    return "a table";
   default:
-    return "date/time";
+    return "a date/time";
   }
 }
 
@@ -217,7 +218,7 @@ double TableReader::to_double(const std::string& key, const toml::value& v,
     return static_cast<double>(v.as_integer());
   if (v.is_floating())
     return v.as_floating();
-  fail(key, "= " + toml_text(v) + " is a " + type_name(v) + ", expected a number (" + what + ")");
+  fail(key, "= " + toml_text(v) + " is " + type_name(v) + ", expected a number (" + what + ")");
 }
 
 double TableReader::number(const std::string& key, Range range, const std::string& what) {
@@ -245,7 +246,7 @@ std::int64_t TableReader::integer(const std::string& key, Range range, const std
     fail_missing(key, what + ", an integer " + range.describe());
   if (!v->is_integer())
     fail(key,
-         "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected an integer (" + what + ")");
+         "= " + toml_text(*v) + " is " + type_name(*v) + ", expected an integer (" + what + ")");
   if (const std::string problem = overflow_problem(*v); !problem.empty())
     fail(key, problem + " (" + what + ")");
   auto x = v->as_integer();
@@ -273,7 +274,7 @@ std::string TableReader::choice(const std::string& key, const std::vector<std::s
     fail_missing(key, what + ", one of " + list);
   if (!v->is_string())
     fail(key,
-         "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected a string, one of " + list);
+         "= " + toml_text(*v) + " is " + type_name(*v) + ", expected a string, one of " + list);
   const std::string& s = v->as_string().str;
   for (const auto& a : allowed)
     if (s == a)
@@ -297,8 +298,7 @@ std::string TableReader::string_or(const std::string& key, const std::string& fa
   if (!v)
     return fallback;
   if (!v->is_string())
-    fail(key,
-         "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected a string (" + what + ")");
+    fail(key, "= " + toml_text(*v) + " is " + type_name(*v) + ", expected a string (" + what + ")");
   return v->as_string().str;
 }
 
@@ -307,8 +307,8 @@ bool TableReader::boolean_or(const std::string& key, bool fallback, const std::s
   if (!v)
     return fallback;
   if (!v->is_boolean())
-    fail(key, "= " + toml_text(*v) + " is a " + type_name(*v) + ", expected true or false (" +
-                  what + ")");
+    fail(key,
+         "= " + toml_text(*v) + " is " + type_name(*v) + ", expected true or false (" + what + ")");
   return v->as_boolean();
 }
 

@@ -9,6 +9,10 @@
 #     (GRANPACK_FAULT=hold:N), so the signal lands where the draw says, on any machine load.
 #  3. final.h5 of the chain equals the uninterrupted one bit for bit (tests/support/
 #     same_state.py) and report.json has the same stage values.
+# Load balancing is on, with a threshold (1.001) that any difference between the ranks' grain
+# counts exceeds: on 2 ranks the cut plane moves at most rebuilds (checked), and the chain must
+# still continue bit for bit (the checkpoint stores the cuts; every move is a function of the
+# positions, never of a clock).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
@@ -16,6 +20,7 @@ set -u
 restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 deck=$scratch/restart.toml
 short_deck "$deck"
+printf '\n[numerics]\nload_balance = true\nload_balance_threshold = 1.001\n' >> "$deck"
 run_options=(--checkpoint-every-seconds 0)
 
 seed=${GRANPACK_TEST_SEED:-$(( $(date +%s) % 100000 ))}
@@ -25,6 +30,11 @@ echo "random stop steps drawn with GRANPACK_TEST_SEED=$seed"
 chain() {
   np=$1 whole=$scratch/whole$1 out=$scratch/chain$1
   check_exit "$np rank(s): uninterrupted run" 0 "$whole.txt" run_deck "$whole" || return
+  if [ "$np" -gt 1 ]; then
+    local moved
+    moved=$(sed -n 's/^  load balance: cut planes moved at \([0-9]*\) rebuilds.*/\1/p' "$whole/log.txt" | awk '{ n += $1 } END { print n + 0 }')
+    check "$np rank(s): the load balancer moved the cut planes (at $moved rebuilds)" '[ "${moved:-0}" -gt 0 ]' || return
+  fi
   # Each stop is drawn after the previous checkpoint and 1050 steps before the end at the
   # latest: its checkpoint waits up to 1000 steps for a neighbour-list rebuild, and a stop
   # with no rebuild left before the end lets the run finish (exit 0, final.h5), as it should.

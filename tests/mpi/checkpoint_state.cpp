@@ -244,5 +244,37 @@ TEST(CheckpointState, FormatOneRunStateRestoresOverTheDeck) {
   EXPECT_THROW(parse_run_state("{\"format\": 3, " + common + "}", "new.h5"), InputError);
 }
 
+// Cut planes moved by load balancing travel as exact bit patterns; planes that do not fit the
+// grid (count, order, ends) are a damaged checkpoint, refused with the file's name.
+TEST(CheckpointState, CutPlanesRoundTripAndMustFitTheGrid) {
+  const auto state = [](const std::string& cuts) {
+    return R"({"format": 2, "stage_index": 1, "mid_stage": true, "ranks": 2, "grid": [2, 1, 1],
+      "completed": [], "frames": [], "wall_seconds": 1.5, "cuts": )" +
+           cuts + "}";
+  };
+  const auto x = [](double v) { return "\"" + exact(v).get<std::string>() + "\""; };
+  const double c = 0.1 + 0.2; // not a short decimal: only an exact pattern keeps its bits
+  const std::string one = "[" + x(0) + ", " + x(1) + "]";
+  const RunState s = parse_run_state(
+      state("[[" + x(0) + ", " + x(c) + ", " + x(1) + "], " + one + ", " + one + "]"), "cp.h5");
+  ASSERT_EQ(s.cuts.size(), 3u);
+  EXPECT_EQ(s.cuts[0], (std::vector<double>{0.0, c, 1.0}));
+  EXPECT_EQ(s.cuts[2], (std::vector<double>{0.0, 1.0}));
+  for (const std::string bad :
+       {"[[" + x(0) + ", " + x(1) + "], " + one + ", " + one + "]",
+        "[[" + x(0) + ", " + x(0.7) + ", " + x(0.7) + "], " + one + ", " + one + "]",
+        "[[" + x(0.1) + ", " + x(0.5) + ", " + x(1) + "], " + one + ", " + one + "]",
+        "[[" + x(0) + ", " + x(0.5) + ", " + x(1) + "], " + one + "]"}) {
+    try {
+      parse_run_state(state(bad), "dir/cp.h5");
+      ADD_FAILURE() << "accepted cuts " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("dir/cp.h5: /run_state's cut planes do not fit"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 } // namespace
 } // namespace granpack

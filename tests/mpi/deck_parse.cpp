@@ -76,6 +76,8 @@ TEST(Deck, ParsesEveryKeyWithDefaults) {
   EXPECT_TRUE(std::isinf(d.material.friction));
   EXPECT_DOUBLE_EQ(d.material.tangential_stiffness_ratio, 1.0);
   EXPECT_DOUBLE_EQ(d.numerics.time_step_fraction, 0.02);
+  EXPECT_FALSE(d.numerics.load_balance);
+  EXPECT_DOUBLE_EQ(d.numerics.load_balance_threshold, 1.1);
   EXPECT_TRUE(d.output.quiet);
   ASSERT_EQ(d.stages.size(), 3u);
   const auto& c = std::get<CompressStage>(d.stages[0].params);
@@ -142,6 +144,19 @@ TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
   EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\nrolling_stiffness = -1.0"))
                 .find("[material] rolling_stiffness: = -1.0 is out of range"),
             std::string::npos);
+  // Load balancing: a threshold of 1 would move the planes at every rebuild of a balanced run.
+  EXPECT_NE(message_of(with("[output]", "[numerics]\nload_balance = true\n"
+                                        "load_balance_threshold = 1.0\n[output]"))
+                .find("[numerics] load_balance_threshold: = 1.0 is out of range"),
+            std::string::npos);
+  EXPECT_NE(message_of(with("[output]", "[numerics]\nload_balance = 1\n[output]"))
+                .find("[numerics] load_balance: = 1 is an integer"),
+            std::string::npos);
+  const Deck lb = parse_deck(with("[output]", "[numerics]\nload_balance = true\n"
+                                              "load_balance_threshold = 1.25\n[output]"),
+                             "t.toml");
+  EXPECT_TRUE(lb.numerics.load_balance);
+  EXPECT_DOUBLE_EQ(lb.numerics.load_balance_threshold, 1.25);
 }
 
 TEST(Deck, CohesionAndRollingResistanceKeys) {

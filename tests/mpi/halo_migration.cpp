@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <cmath>
 #include <map>
 #include <random>
 #include <set>
@@ -11,6 +12,8 @@
 #include "granpack/comm/halo.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/core/cut_planes.h"
+#include "granpack/core/error.h"
 
 using namespace granpack;
 
@@ -64,9 +67,23 @@ expected_ghosts(const std::vector<Particle<dim>>& all, const Decomposition<dim>&
   return out;
 }
 
-template <int dim> void check_halo(double width) {
+/// Uneven cut planes, as the load balancer makes them: slab k of an axis cut in m ends at
+/// ((k+1)/m)^1.5 (narrow slabs near 0, wide ones near 1).
+template <int dim> void cut_unevenly(Decomposition<dim>& d) {
+  std::array<std::vector<double>, dim> cuts;
+  for (int a = 0; a < dim; ++a) {
+    const int m = d.dims()[a];
+    for (int k = 0; k <= m; ++k)
+      cuts[a].push_back(k == m ? 1.0 : std::pow(double(k) / m, 1.5));
+  }
+  d.set_cuts(cuts);
+}
+
+template <int dim> void check_halo(double width, bool uneven = false) {
   auto all = random_grains<dim>(dim == 3 ? 3000 : 1500, 42);
   Decomposition<dim> d(MPI_COMM_WORLD, Vec<dim>::Ones());
+  if (uneven)
+    cut_unevenly(d);
   ParticleStore<dim> p;
   std::map<GlobalId, Vec<dim>> pos_of;
   for (const auto& q : all) {
@@ -130,6 +147,56 @@ TEST(Halo, GhostLayerEqualsBruteForceImages3D) {
 }
 TEST(Halo, WideLayerStillExact3D) {
   check_halo<3>(0.3);
+}
+TEST(Halo, UnevenSubBoxesStillExact2D) {
+  check_halo<2>(0.08, true);
+}
+TEST(Halo, UnevenSubBoxesStillExact3D) {
+  check_halo<3>(0.08, true);
+}
+
+TEST(Decomposition, UnevenCutsGiveEveryPointOneOwnerInsideItsBox) {
+  Decomposition<3> d(MPI_COMM_WORLD, Vec<3>::Ones());
+  cut_unevenly(d);
+  EXPECT_EQ(d.uniform(), d.size() == 1);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int mine = 0;
+  const int n = 2000;
+  for (int k = 0; k < n; ++k) {
+    Vec<3> s(u(rng), u(rng), u(rng));
+    if (k < 3) // the planes themselves belong to the slab above them
+      s = Vec<3>(d.cuts(0)[d.dims()[0] - 1], d.cuts(1)[d.dims()[1] - 1], 0.0);
+    const bool inside = (s.array() >= d.lo().array()).all() && (s.array() < d.hi().array()).all();
+    EXPECT_EQ(d.owns(s), inside) << s.transpose();
+    mine += d.owns(s) ? 1 : 0;
+  }
+  EXPECT_EQ(global_sum(MPI_COMM_WORLD, std::int64_t(mine)), n) << "every point has one owner";
+}
+
+TEST(Halo, SubBoxNarrowerThanTheGhostLayerIsRefusedOnEveryRank) {
+  Decomposition<3> d(MPI_COMM_WORLD, Vec<3>::Ones());
+  if (d.size() == 1)
+    GTEST_SKIP() << "one rank: no cut planes to move";
+  // The first slab of the most-cut axis is 0.05 of the cell: a ghost layer of 0.08 needs grains
+  // from beyond the nearest sub-domain. Every rank must refuse (not only the narrow one).
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (d.dims()[a] > d.dims()[axis])
+      axis = a;
+  std::array<std::vector<double>, 3> cuts{uniform_cuts(d.dims()[0]), uniform_cuts(d.dims()[1]),
+                                          uniform_cuts(d.dims()[2])};
+  cuts[axis][1] = 0.05;
+  d.set_cuts(cuts);
+  EXPECT_DOUBLE_EQ(d.narrowest(axis), 0.05);
+  ParticleStore<3> p;
+  Halo<3> halo;
+  try {
+    halo.borders(p, d, Vec<3>::Constant(0.08));
+    ADD_FAILURE() << "a ghost layer wider than a sub-box was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("narrowest"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Migration, GrainsAndTheirContactsReachTheirOwners) {

@@ -1,9 +1,13 @@
 #pragma once
 // Spatial domain decomposition of the scaled cell [0,1)^dim on an MPI Cartesian grid.
 // Working in scaled coordinates means the sub-boxes follow the cell when its lengths change.
+// Each axis is cut into dims[a] slabs by planes that are uniform (a static grid) or placed by
+// the load balancer (comm/rebalance.h); the planes of an axis are the same across the grid, so
+// every rank keeps the same face neighbours and the halo stays a Cartesian shift.
 #include <mpi.h>
 
 #include <array>
+#include <vector>
 
 #include "granpack/core/vec.h"
 
@@ -29,6 +33,15 @@ public:
   /// This rank's sub-box [lo, hi) in scaled coordinates.
   const Vec<dim>& lo() const { return lo_; }
   const Vec<dim>& hi() const { return hi_; }
+  /// The cut planes of axis a: dims()[a] + 1 positions from 0 to 1 (slab k is [c_k, c_k+1)).
+  const std::vector<double>& cuts(int a) const { return cuts_[a]; }
+  /// True while every axis is cut uniformly (the static grid).
+  bool uniform() const { return uniform_; }
+  /// Moves the cut planes (the same on every rank; the grains follow at the next migration).
+  /// Each axis needs dims()[a] + 1 increasing positions from 0 to 1.
+  void set_cuts(const std::array<std::vector<double>, dim>& cuts);
+  /// The narrowest slab along axis a, as a fraction of the cell length (the same on every rank).
+  double narrowest(int a) const;
   /// True when the scaled position (in [0,1)^dim) lies in this rank's sub-box.
   bool owns(const Vec<dim>& s) const { return owner_of(s) == rank_; }
   /// Rank of the sub-box holding scaled position s (in [0,1)^dim).
@@ -36,11 +49,14 @@ public:
 
 private:
   void create_grid(MPI_Comm world);
+  void update_box();
 
   MPI_Comm cart_ = MPI_COMM_NULL;
   int rank_ = 0, size_ = 1;
   std::array<int, dim> dims_{}, coords_{};
   Vec<dim> lo_, hi_;
+  std::array<std::vector<double>, dim> cuts_;
+  bool uniform_ = true;
 };
 
 extern template class Decomposition<2>;

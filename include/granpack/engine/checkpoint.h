@@ -103,6 +103,9 @@ struct RunState {
   bool mid_stage = false;
   int ranks = 0;         ///< rank count of the writing run
   std::vector<int> grid; ///< its domain grid
+  /// Its cut planes per axis (grid[a] + 1 each) when load balancing had moved them; empty for
+  /// the uniform grid.
+  std::vector<std::vector<double>> cuts;
   std::vector<StageReport> completed;
   std::vector<nlohmann::json> frames; ///< outermost stage first
   double wall_seconds = 0;

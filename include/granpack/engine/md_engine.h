@@ -31,6 +31,10 @@ template <int dim> struct MdSettings {
   /// Largest displacement of a grain in one step, as a fraction of the skin, before the run
   /// stops with a diagnosis (a grain jumping that far resolves no collision: blow-up).
   double max_step_displacement = 1.0;
+  /// Load balancing ([numerics] load_balance): at a rebuild, the cut planes move to the
+  /// quantiles of the grains when the largest rank's grain count exceeds this multiple of the
+  /// mean (comm/rebalance.h). 0: the static grid.
+  double load_balance_threshold = 0;
   /// When set (fix_rattlers), only the grains whose ids are in this sorted list move; the
   /// others are held at rest. Mobile grains also feel body_force(id) if it is set.
   const std::vector<GlobalId>* mobile = nullptr;
@@ -43,6 +47,8 @@ template <int dim> MdSettings<dim> deck_md_settings(const RunContext<dim>& ctx) 
   MdSettings<dim> s;
   s.skin = ctx.deck->numerics.skin * ctx.deck->sample.diameter;
   s.max_overlap = ctx.deck->numerics.max_overlap;
+  if (ctx.deck->numerics.load_balance)
+    s.load_balance_threshold = ctx.deck->numerics.load_balance_threshold;
   return s;
 }
 
@@ -60,7 +66,10 @@ template <int dim> class MdEngine {
 public:
   MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law, const MdSettings<dim>& settings);
   /// Adds the engine's phase times to the stage's (RunContext::stage_timers).
-  ~MdEngine() { ctx_.stage_timers += timers_; }
+  ~MdEngine() {
+    ctx_.stage_timers += timers_;
+    ctx_.stage_rebalances += rebalances_;
+  }
   MdEngine(const MdEngine&) = delete;
   MdEngine& operator=(const MdEngine&) = delete;
   /// Advances one time step.
@@ -76,14 +85,21 @@ public:
   const Halo<dim>& halo() const { return halo_; }
   const ContactLaw<dim>& law() const { return law_; }
   std::int64_t rebuilds() const { return rebuilds_; }
+  /// How many rebuilds moved the cut planes (load balancing).
+  std::int64_t rebalances() const { return rebalances_; }
   double dt() const { return settings_.dt; }
   /// Seconds spent in each phase of step() (and of the constructor) on this rank.
   const StepTimers& timers() const { return timers_; }
   MdSettings<dim>& settings() { return settings_; }
 
 private:
-  /// Migration, canonical (spatial) order of the owned grains, halo, Verlet list.
+  /// Migration, canonical (spatial) order of the owned grains, halo, Verlet list; with load
+  /// balancing, new cut planes when the work is uneven (and the same again after them).
   void rebuild();
+  /// The canonical order of the owned grains, the halo and the Verlet list.
+  void build_halo_and_list(double cutoff);
+  /// Per owned grain, the work of the current lists (2 + the pairs it belongs to).
+  std::vector<std::int64_t> grain_work();
   /// Second half of a step: forces, sanity, half-kick, time. Also completes the step a
   /// checkpoint interrupted, on restart.
   void finish_step();
@@ -105,7 +121,7 @@ private:
   MdObservables<dim> obs_;
   StepTimers timers_;
   double max_radius_ = 0;
-  std::int64_t rebuilds_ = 0;
+  std::int64_t rebuilds_ = 0, rebalances_ = 0;
 };
 
 extern template class MdEngine<2>;

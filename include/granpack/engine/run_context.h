@@ -50,6 +50,8 @@ template <int dim> struct RunContext {
   /// engine adds its timers when it ends; run_deck reduces them over the ranks at the stage
   /// end (the report's phase_seconds) and resets them.
   StepTimers stage_timers;
+  /// How often the MD engines of the stage in progress moved the cut planes (load balancing).
+  std::int64_t stage_rebalances = 0;
 
   /// Takes the resume frame of the stage starting now (empty json if not resuming).
   nlohmann::json take_resume_frame() {

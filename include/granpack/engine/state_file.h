@@ -12,11 +12,13 @@
 namespace granpack {
 
 /// Makes a configuration read from a file the sample: grains, contacts and cell (rate kept),
-/// a domain decomposition (the given grid, else one chosen from the cell's shape) and the
-/// grains and contacts moved to their spatial owners. Collective. Used by `read` and restarts.
+/// a domain decomposition (the given grid and, if given, its cut planes; else one chosen from
+/// the cell's shape) and the grains and contacts moved to their spatial owners. Collective.
+/// Used by `read` and restarts.
 template <int dim>
 void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
-                         const std::array<int, dim>* grid = nullptr);
+                         const std::array<int, dim>* grid = nullptr,
+                         const std::array<std::vector<double>, dim>* cuts = nullptr);
 
 /// Writes the current state as an HDF5 configuration file (with its XDMF sidecar); with a
 /// run_state (engine/checkpoint.h) the file is a checkpoint.

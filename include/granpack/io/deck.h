@@ -47,6 +47,10 @@ struct NumericsSpec {
   double skin = 0.1;                ///< Verlet skin, fraction of the largest diameter
   /// Largest overlap h / min(R_i, R_j) before an MD stage stops with a diagnosis.
   double max_overlap = 0.1;
+  /// Move the domain cut planes to balance the grain counts (comm/rebalance.h) when the
+  /// largest rank holds more than load_balance_threshold times the mean.
+  bool load_balance = false;
+  double load_balance_threshold = 1.1;
   friend bool operator==(const NumericsSpec&, const NumericsSpec&) = default;
 };
 
