@@ -92,34 +92,23 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     const double n_el = normal_elastic_force(n_factor, k_n, hp);
     const double n_visc = viscous_coefficient(two_zeta, m_eff, k_n) * h_dot;
 
-    // Rotation of the contact over the step (contact_rotation): rolling n x dn + pivoting.
-    const double vn = nx * vx + ny * vy + nz * vz;
-    const double sc = dt * inv_d;
-    const double dnx = (vx - vn * nx) * sc, dny = (vy - vn * ny) * sc, dnz = (vz - vn * nz) * sc;
-    const double piv = half_dt * (nx * (wix + wjx) + ny * (wiy + wjy) + nz * (wiz + wjz));
-    const double thx = (ny * dnz - nz * dny) + piv * nx;
-    const double thy = (nz * dnx - nx * dnz) + piv * ny;
-    const double thz = (nx * dny - ny * dnx) + piv * nz;
+    // Rotation of the contact over the step (contact_rotation_3d): rolling n x dn + pivoting.
+    const Xyz normal{nx, ny, nz};
+    const Xyz theta = contact_rotation_3d(normal, {vx, vy, vz}, {wix, wiy, wiz}, {wjx, wjy, wjz},
+                                          dt * inv_d, half_dt);
 
-    // Transport of T (transport_tangential, small-angle series).
-    const double t0x = b.tx[l], t0y = b.ty[l], t0z = b.tz[l];
-    const double mag2 = t0x * t0x + t0y * t0y + t0z * t0z;
-    const double x2 = thx * thx + thy * thy + thz * thz;
+    // Transport of T (as transport_tangential, with the small-angle series only).
+    const Xyz t0{b.tx[l], b.ty[l], b.tz[l]};
+    const double mag2 = squared_norm(t0);
+    const double x2 = squared_norm(theta);
     const SmallAngle sa = small_angle_series(x2);
-    const double cs = sa.cos_x, s_over_x = sa.sin_x_over_x, omc_over_x2 = sa.one_minus_cos_over_x2;
-    const double th_t = omc_over_x2 * (thx * t0x + thy * t0y + thz * t0z);
-    double rx2 = cs * t0x + s_over_x * (thy * t0z - thz * t0y) + th_t * thx;
-    double ry2 = cs * t0y + s_over_x * (thz * t0x - thx * t0z) + th_t * thy;
-    double rz2 = cs * t0z + s_over_x * (thx * t0y - thy * t0x) + th_t * thz;
-    const double rn = nx * rx2 + ny * ry2 + nz * rz2;
-    rx2 -= rn * nx;
-    ry2 -= rn * ny;
-    rz2 -= rn * nz;
-    const double rn2 = rx2 * rx2 + ry2 * ry2 + rz2 * rz2;
+    const Xyz r = rotate_onto_tangent_plane(t0, theta, normal, sa.cos_x, sa.sin_x_over_x,
+                                            sa.one_minus_cos_over_x2);
+    const double rn2 = squared_norm(r);
     const double restore = rn2 > 0 ? std::sqrt(mag2 / (rn2 > 0 ? rn2 : 1.0)) : 0.0;
-    double tx = mag2 == 0 ? t0x : rx2 * restore;
-    double ty = mag2 == 0 ? t0y : ry2 * restore;
-    double tz = mag2 == 0 ? t0z : rz2 * restore;
+    double tx = mag2 == 0 ? t0.x : r.x * restore;
+    double ty = mag2 == 0 ? t0.y : r.y * restore;
+    double tz = mag2 == 0 ? t0.z : r.z * restore;
 
     // Walton: N^e decreased, T scaled by K_N(N)/K_N(N_old) = (N/N_old)^{1/3}.
     const double n_old = b.n_old[l];

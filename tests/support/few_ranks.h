@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "granpack/app/run_deck.h"
+#include "granpack/comm/communicator.h"
 
 namespace granpack::test {
 
@@ -28,16 +29,13 @@ inline void wait_asleep(MPI_Request& request) {
 /// Runs the deck on all ranks of MPI_COMM_WORLD if they are at most two, else on rank 0 alone
 /// (a communicator of its own); every rank returns run_deck's exit code on rank 0.
 inline int run_deck_on_few_ranks(const RunOptions& options) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  const bool runs = size <= 2 || rank == 0;
-  MPI_Comm group = MPI_COMM_NULL;
-  MPI_Comm_split(MPI_COMM_WORLD, runs ? 0 : MPI_UNDEFINED, rank, &group);
+  const int rank = rank_of(MPI_COMM_WORLD);
+  const bool runs = size_of(MPI_COMM_WORLD) <= 2 || rank == 0;
+  MPI_Comm group = split_communicator(MPI_COMM_WORLD, runs ? 0 : MPI_UNDEFINED, rank);
   int code = 0;
   if (runs) {
     code = run_deck(group, options);
-    MPI_Comm_free(&group);
+    free_communicator(group);
   }
   MPI_Request request;
   MPI_Ibcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD, &request);
