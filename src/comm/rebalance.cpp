@@ -17,12 +17,12 @@ constexpr int kBinsPerSlab = 128;
 } // namespace
 
 double load_imbalance(MPI_Comm comm, std::int64_t local_load) {
-  std::int64_t largest = 0, total = 0;
-  MPI_Allreduce(&local_load, &largest, 1, MPI_INT64_T, MPI_MAX, comm);
-  MPI_Allreduce(&local_load, &total, 1, MPI_INT64_T, MPI_SUM, comm);
+  std::array<std::int64_t, 1> largest{local_load};
+  global_max_in_place(comm, largest);
+  const std::int64_t total = global_sum(comm, local_load);
   if (total == 0)
     return 1.0;
-  return static_cast<double>(largest) * size_of(comm) / static_cast<double>(total);
+  return static_cast<double>(largest[0]) * size_of(comm) / static_cast<double>(total);
 }
 
 namespace {
@@ -102,16 +102,8 @@ bool planes_too_narrow(const Decomposition<dim>& d, const Vec<dim>& ghost_width)
 }
 
 template <int dim>
-bool rebalance_if_needed(Decomposition<dim>& d, const ParticleStore<dim>& p,
-                         std::span<const std::int64_t> weights, double threshold,
-                         const Vec<dim>& ghost_width, double margin) {
-  std::int64_t load = 0;
-  for (std::size_t i = 0; i < p.n_owned(); ++i)
-    load += weights.empty() ? 1 : weights[i];
-  // The loads are global, so every rank takes the same branch.
-  const bool uneven = load_imbalance(d.comm(), load) > threshold;
-  if (!uneven && !planes_too_narrow(d, ghost_width))
-    return false;
+bool rebalance(Decomposition<dim>& d, const ParticleStore<dim>& p,
+               std::span<const std::int64_t> weights, const Vec<dim>& ghost_width, double margin) {
   Vec<dim> min_width;
   for (int a = 0; a < dim; ++a)
     min_width[a] = std::min(margin * ghost_width[a], 1.0 / d.dims()[a]);
@@ -134,9 +126,9 @@ template std::array<std::vector<double>, 3> balanced_cuts<3>(const Decomposition
                                                              const Vec<3>&);
 template bool planes_too_narrow<2>(const Decomposition<2>&, const Vec<2>&);
 template bool planes_too_narrow<3>(const Decomposition<3>&, const Vec<3>&);
-template bool rebalance_if_needed<2>(Decomposition<2>&, const ParticleStore<2>&,
-                                     std::span<const std::int64_t>, double, const Vec<2>&, double);
-template bool rebalance_if_needed<3>(Decomposition<3>&, const ParticleStore<3>&,
-                                     std::span<const std::int64_t>, double, const Vec<3>&, double);
+template bool rebalance<2>(Decomposition<2>&, const ParticleStore<2>&,
+                           std::span<const std::int64_t>, const Vec<2>&, double);
+template bool rebalance<3>(Decomposition<3>&, const ParticleStore<3>&,
+                           std::span<const std::int64_t>, const Vec<3>&, double);
 
 } // namespace granpack

@@ -52,8 +52,7 @@ template <int dim> void MdEngine<dim>::rebuild() {
     migrate(sys, d);
     // Moved planes that the shrinking cell made narrower than the ghost layer: new ones (by
     // grain count: the list that gives the work is not built yet) before the halo needs them.
-    if (balancing && planes_too_narrow(d, width) &&
-        rebalance_if_needed(d, sys.particles, {}, settings_.load_balance_threshold, width)) {
+    if (balancing && planes_too_narrow(d, width) && rebalance(d, sys.particles, {}, width)) {
       migrate(sys, d);
       ++rebalances_;
     }
@@ -63,7 +62,11 @@ template <int dim> void MdEngine<dim>::rebuild() {
   // planes alone, so that a restart (whose checkpoint holds the planes) repeats every decision.
   if (balancing) {
     const std::vector<std::int64_t> work = grain_work();
-    if (rebalance_if_needed(d, sys.particles, work, settings_.load_balance_threshold, width)) {
+    std::int64_t load = 0;
+    for (const std::int64_t w : work)
+      load += w;
+    if (load_imbalance(ctx_.world, load) > settings_.load_balance_threshold &&
+        rebalance(d, sys.particles, work, width)) {
       {
         ScopedPhase t(timers_.comm);
         sys.particles.clear_ghosts();

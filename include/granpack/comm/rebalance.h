@@ -40,12 +40,13 @@ balanced_cuts(const Decomposition<dim>& d, const ParticleStore<dim>& p,
 /// cell shrank since they were placed): the halo needs new planes before it can be built.
 template <int dim> bool planes_too_narrow(const Decomposition<dim>& d, const Vec<dim>& ghost_width);
 
-/// What MdEngine::rebuild does: when the weighted load's imbalance exceeds `threshold` or the
-/// planes are too narrow, new planes (slabs at least `margin` x ghost_width wide where the grid
-/// allows it). Returns true when it moved them; the caller then migrates again. Collective.
+/// New planes for the weighted grains (balanced_cuts), every slab at least `margin` x
+/// ghost_width wide where the grid allows it. Returns true when they differ from the current
+/// ones (set on d; the caller then migrates the grains). The caller decides when: a load
+/// imbalance above its threshold, or planes_too_narrow. Collective.
 template <int dim>
-bool rebalance_if_needed(Decomposition<dim>& d, const ParticleStore<dim>& p,
-                         std::span<const std::int64_t> weights, double threshold,
-                         const Vec<dim>& ghost_width, double margin = 1.25);
+bool rebalance(Decomposition<dim>& d, const ParticleStore<dim>& p,
+               std::span<const std::int64_t> weights, const Vec<dim>& ghost_width,
+               double margin = 1.25);
 
 } // namespace granpack
