@@ -15,6 +15,18 @@
 
 namespace granpack {
 
+int fft_friendly_size(int n) {
+  GRANPACK_CHECK(n > 0, "fft_friendly_size: need n > 0");
+  for (int m = n;; ++m) {
+    int r = m;
+    for (int f : {2, 3, 5, 7})
+      while (r % f == 0)
+        r /= f;
+    if (r == 1)
+      return m;
+  }
+}
+
 std::vector<std::uint8_t> rasterize_disks(std::span<const Disk> disks, const Vec<2>& L, int nx,
                                           int ny) {
   GRANPACK_CHECK(nx > 0 && ny > 0, "rasterize_disks: mesh must have nodes");

@@ -51,7 +51,9 @@ nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o)
     const double nodes = L[0] * L[1] / (spacing * spacing);
     if (nodes > o.max_nodes)
       spacing *= std::sqrt(nodes / o.max_nodes);
-    const int nx = int(std::ceil(L[0] / spacing)), ny = int(std::ceil(L[1] / spacing));
+    // At most the requested spacing, with node counts the FFT is fast on.
+    const int nx = fft_friendly_size(int(std::ceil(L[0] / spacing))),
+              ny = fft_friendly_size(int(std::ceil(L[1] / spacing)));
     std::vector<Disk> disks;
     for (const auto& g : grains)
       disks.push_back({v.system.cell.to_real(g.position), g.radius});

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# ctest: RANKS 1 2   (one ctest entry per rank count: GRANPACK_TEST_RANKS)
 # Checkpoints inside the event-driven stages (ed_gas, ls_compress) continue exactly.
 #  1. An FCC lattice melted by ed_gas (75 pieces of 2000 collisions) and grown by ls_compress
 #     (about 125 pieces), uninterrupted and without any checkpoint, on 1 and on 2 ranks (rank 0

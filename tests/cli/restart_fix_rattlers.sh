@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# ctest: RANKS 1 2   (one ctest entry per rank count: GRANPACK_TEST_RANKS)
 # Checkpoints inside fix_rattlers continue exactly.
 #  1. A small packing (random gas -> short compress) whose rattlers are pushed onto the frozen
 #     backbone by fix_rattlers, uninterrupted, with a checkpoint every 400 steps, on 1 and on 2

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# ctest: RANKS 1 2   (one ctest entry per rank count: GRANPACK_TEST_RANKS)
 # Checkpoint/restart on the same rank count is exact, and checkpoints survive a rank's death
 # wherever it lands. The deaths are injected (GRANPACK_FAULT, docs/long-jobs.md "Fault
 # injection"): a rank kills itself with SIGKILL at a named point, so every kill lands exactly

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# ctest: RANKS 1 2   (one ctest entry per rank count: GRANPACK_TEST_RANKS)
 # A checkpoint taken because of a stop signal, at any step, continues to the same bits as the
 # run that never stopped (issue 31; docs/long-jobs.md, "Bit-for-bit continuation").
 #  1. A short deck (random gas -> compress -> three pressure steps) runs uninterrupted, with no

@@ -4,7 +4,11 @@
 # 2 ranks on 1 rank; `granpack stiffness` on a packing without contacts refuses it (exit 2);
 # MPI-IO hints (GRANPACK_MPIIO_HINTS) reach the writes without changing a bit of the file, and
 # a malformed hints string stops the run at start-up with exit 2 and nothing written.
+# It runs as a user's job does, with Open MPI's own transports (UCX), binding and kill timeout,
+# not the quicker ones tests/CMakeLists.txt sets for the rest of the suite.
 set -u
+unset OMPI_MCA_pml OMPI_MCA_btl OMPI_MCA_btl_vader_eager_limit OMPI_MCA_hwloc_base_binding_policy \
+  OMPI_MCA_odls_base_sigkill_timeout
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
 cli_scratch

@@ -72,6 +72,20 @@ check_exit() {
   local name=$1 code=$2 log=$3; shift 3
   "$@" < /dev/null > "$log" 2>&1
   rc=$?
+  check_rc "$name" "$code" "$log"
+}
+# start_bg LOG CMD...: CMD in the background (stdin from /dev/null, output to LOG), its pid in
+# $bg_pid; check_bg NAME CODE LOG PID waits for it and checks its exit code as check_exit does.
+# Two 1-rank runs side by side fill both processors of a test that holds two.
+start_bg() { local log=$1; shift; "$@" < /dev/null > "$log" 2>&1 & bg_pid=$!; }
+check_bg() {
+  wait "$4"
+  rc=$?
+  check_rc "$1" "$2" "$3"
+}
+# check_rc NAME CODE LOG: $rc against CODE ('!0': any failure), the log's tail on a mismatch.
+check_rc() {
+  local name=$1 code=$2 log=$3
   if [ "$code" = '!0' ]; then
     check "$name: exit $rc (expected non-zero)" "[ $rc -ne 0 ]" || { tail -20 "$log"; return 1; }
   else

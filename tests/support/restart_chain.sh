@@ -106,12 +106,13 @@ same_run() {
   echo "$3 rank(s): identical"
 }
 
-# over_ranks: calls the script's `chain NP` for NP = 1 and 2, then its `stop_run`; the
-# checks inside `chain` are tallied by tests/support/cli_checks.sh (the script ends with
-# checks_done).
+# over_ranks: calls the script's `chain NP` for NP = 1 and 2 (or the rank count that
+# GRANPACK_TEST_RANKS names: ctest runs each as its own entry, tests/CMakeLists.txt), then its
+# `stop_run`; the checks inside `chain` are tallied by tests/support/cli_checks.sh (the script
+# ends with checks_done).
 over_ranks() {
   local n
-  for n in 1 2; do
+  for n in ${GRANPACK_TEST_RANKS:-1 2}; do
     chain $n
     stop_run
   done

@@ -214,3 +214,17 @@ TEST(DensityCorrelation, HolesAndTheirEquivalentRadii) {
 
 } // namespace
 } // namespace granpack
+
+TEST(DensityCorrelation, FftFriendlySizesHaveOnlyTheFactors2357) {
+  EXPECT_EQ(granpack::fft_friendly_size(1), 1);
+  EXPECT_EQ(granpack::fft_friendly_size(7), 7);
+  EXPECT_EQ(granpack::fft_friendly_size(11), 12);
+  EXPECT_EQ(granpack::fft_friendly_size(307), 315);   // 3^2 x 5 x 7
+  EXPECT_EQ(granpack::fft_friendly_size(3070), 3072); // 2^10 x 3
+  // Never more than a few percent above n where meshes are large.
+  for (int n = 1000; n < 20000; n += 37) {
+    const int m = granpack::fft_friendly_size(n);
+    EXPECT_GE(m, n);
+    EXPECT_LE(m, n + n / 20) << n;
+  }
+}

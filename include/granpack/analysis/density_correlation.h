@@ -29,6 +29,10 @@ struct Disk {
   double radius = 0;
 };
 
+/// The smallest node count >= n whose prime factors are all 2, 3, 5 or 7, the sizes FFTW
+/// transforms fastest: a side of 3070 nodes (2 x 5 x 307) takes 3x as long as one of 3072.
+int fft_friendly_size(int n);
+
 /// The solid indicator on an nx x ny periodic mesh of the cell [0, L1) x [0, L2): node (i, j)
 /// at ((i + 1/2) L1/nx, (j + 1/2) L2/ny), 1 inside a disk. Row-major, index i * ny + j.
 std::vector<std::uint8_t> rasterize_disks(std::span<const Disk> disks, const Vec<2>& L, int nx,
