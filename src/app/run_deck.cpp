@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 
+#include "granpack/comm/barrier.h"
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/communicator.h"
@@ -57,30 +58,74 @@ std::string fmt_opt(const std::optional<double>& v) {
   return os.str();
 }
 
-/// The stage's MD phase times over the ranks (collective); none when it ran no MD step.
-std::optional<PhaseSeconds> phase_seconds_over_ranks(MPI_Comm world, const StepTimers& t) {
-  const int size = size_of(world);
-  std::array sum{t.forces, t.neighbor, t.comm, t.integrate, t.forces_cpu};
+/// A stage's timers over the ranks (means; maxima for the load balance).
+struct StageTiming {
+  std::optional<PhaseSeconds> phases; ///< none when the stage ran no MD engine
+  WallSplit split;                    ///< `other` is set once the stage's wall time is known
+  std::optional<StepClasses> classes; ///< with phases
+};
+
+/// Collective: one all-reduce of the sums and one of the maxima, at the stage's end.
+StageTiming stage_timing_over_ranks(MPI_Comm world, const StageTimers& st) {
+  const auto size = static_cast<double>(size_of(world));
+  const StepTimers& t = st.md;
+  std::array sum{t.forces, t.neighbor,      t.comm,          t.integrate,    t.forces_cpu,
+                 st.io,    st.event_driven, t.dense.seconds, t.loose.seconds};
   std::array max{t.forces, t.forces_cpu};
   global_sum_in_place(world, sum);
   global_max_in_place(world, max);
+  for (double& x : sum)
+    x /= size;
+  StageTiming r;
+  r.split = {sum[0], sum[1], sum[2], sum[3], sum[5], sum[6], 0};
   if (sum[0] + sum[1] + sum[2] + sum[3] <= 0)
-    return std::nullopt;
+    return r;
   PhaseSeconds p;
-  p.forces = sum[0] / size, p.neighbor = sum[1] / size, p.comm = sum[2] / size;
-  p.integrate = sum[3] / size, p.forces_cpu = sum[4] / size;
+  p.forces = sum[0], p.neighbor = sum[1], p.comm = sum[2], p.integrate = sum[3];
+  p.forces_cpu = sum[4];
   p.forces_slowest = max[0], p.forces_cpu_slowest = max[1];
-  return p;
+  r.phases = p;
+  // Steps and grain-steps are the same on every rank: the class of a step comes from the
+  // step's global contact count.
+  r.classes = StepClasses{kDenseContactsPerGrain,
+                          {t.dense.steps, t.dense.particle_steps, sum[7]},
+                          {t.loose.steps, t.loose.particle_steps, sum[8]}};
+  return r;
 }
 
-std::string phase_line(const PhaseSeconds& p) {
-  char buf[300];
-  std::snprintf(
-      buf, sizeof buf,
-      "  MD phases (s, mean over ranks): forces %.3g, neighbours %.3g, communication %.3g, "
-      "integration %.3g; force work of the slowest rank / mean %.3f",
-      p.forces, p.neighbor, p.comm, p.integrate, p.force_imbalance());
+std::string fmt_g(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
   return buf;
+}
+
+/// The stage's wall time by part: the parts that took any time, and the rest.
+std::string split_line(const WallSplit& w) {
+  std::string line = "  time (s, mean over ranks):";
+  const std::pair<const char*, double> parts[] = {{"forces", w.forces},
+                                                  {"neighbours", w.neighbor},
+                                                  {"communication", w.comm},
+                                                  {"integration", w.integrate},
+                                                  {"I/O", w.io},
+                                                  {"event-driven", w.event_driven}};
+  for (const auto& [name, seconds] : parts)
+    if (seconds > 0)
+      line += std::string(" ") + name + " " + fmt_g(seconds) + ",";
+  return line + " other " + fmt_g(w.other);
+}
+
+/// The MD steps by class with their rates, and the load balance of the force work.
+std::string classes_line(const StepClasses& c, const PhaseSeconds& p) {
+  auto one = [](const char* name, const StepClass& k) {
+    const auto rate = k.rate();
+    return std::string(name) + " " + std::to_string(k.steps) +
+           (rate ? " (" + fmt_g(*rate) + " particle-steps/s)" : std::string());
+  };
+  char imbalance[80];
+  std::snprintf(imbalance, sizeof imbalance, "; force work of the slowest rank / mean %.3f",
+                p.force_imbalance());
+  return "  MD steps: " + one("dense", c.dense) + ", " + one("loose", c.loose) +
+         " (dense: contacts per grain >= " + fmt_g(c.threshold) + ")" + imbalance;
 }
 
 /// Restores the state a checkpoint holds: grains, contacts, cell, time and step, the domain
@@ -154,9 +199,14 @@ void run_stages(MPI_Comm world, const Deck& deck, Log& log, const std::filesyste
     auto t0 = std::chrono::steady_clock::now();
     ctx.stage_timers = {};
     ctx.stage_rebalances = 0;
+    // No rank starts a timed part before rank 0 started the stage's clock, and every part ends
+    // before the all-reduce of the timers: the parts (means over the ranks) fit in wall_seconds.
+    barrier(world);
     // The runner of the stage's kind (stages/stages.h; the registry: io/stage_params.h).
     StageReport r = std::visit([&](const auto& p) { return run_stage(ctx, p); }, st.params);
-    r.phase_seconds = phase_seconds_over_ranks(world, ctx.stage_timers);
+    const StageTiming timing = stage_timing_over_ranks(world, ctx.stage_timers);
+    r.phase_seconds = timing.phases;
+    r.md_classes = timing.classes;
     GRANPACK_CHECK(ctx.resume.empty() && !ctx.resume_mid_step,
                    "stage " << st.index << " did not consume the checkpoint's resume state");
     r.name = st.name;
@@ -167,9 +217,12 @@ void run_stages(MPI_Comm world, const Deck& deck, Log& log, const std::filesyste
     if ((st.kind == "set" || st.kind == "write") && !report.stages.empty())
       r.copy_state_metrics(report.stages.back());
     r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.wall_split = timing.split;
+    r.wall_split->other = r.wall_seconds - r.wall_split->listed();
     report.stages.push_back(r);
-    if (r.phase_seconds)
-      log.info(phase_line(*r.phase_seconds));
+    log.info(split_line(*r.wall_split));
+    if (r.phase_seconds && r.md_classes)
+      log.info(classes_line(*r.md_classes, *r.phase_seconds));
     if (deck.numerics.load_balance && ctx.decomposition && ctx.decomposition->size() > 1) {
       char buf[200];
       std::snprintf(buf, sizeof buf,

@@ -28,6 +28,7 @@ MdEngine<dim>::MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law,
   for (std::size_t i = 0; i < ctx.system.particles.n_owned(); ++i)
     r = std::max(r, ctx.system.particles.radius[i]);
   max_radius_ = global_max(ctx.world, r);
+  n_grains_ = global_sum(ctx.world, static_cast<std::int64_t>(ctx.system.particles.n_owned()));
   rebuild();
   if (ctx.resume_mid_step) {
     // Restart inside a stage: the checkpoint was taken in the middle of a step, right after
@@ -37,6 +38,7 @@ MdEngine<dim>::MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law,
   } else {
     forces_and_observables();
   }
+  tallied_seconds_ = timers_.total(); // the set-up is no step
 }
 
 template <int dim> void MdEngine<dim>::rebuild() {
@@ -233,15 +235,29 @@ template <int dim> void MdEngine<dim>::finish_step() {
   const double dt = settings_.dt;
   forces_and_observables();
   check_sanity();
-  ScopedPhase t(timers_.integrate);
-  kick(sys.particles, 0.5 * dt);
-  if (settings_.stress_control)
-    settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
+  {
+    ScopedPhase t(timers_.integrate);
+    kick(sys.particles, 0.5 * dt);
+    if (settings_.stress_control)
+      settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
+  }
   sys.time += dt;
   ++sys.step;
+  tally_step();
   fault_point(FaultPoint::kStep, sys.step);
   if (fault_point(FaultPoint::kHold, sys.step))
     wait_for_stop_signal();
+}
+
+template <int dim> void MdEngine<dim>::tally_step() {
+  const double total = timers_.total();
+  const bool dense =
+      static_cast<double>(obs_.contacts) >= kDenseContactsPerGrain * static_cast<double>(n_grains_);
+  StepClassTally& c = dense ? timers_.dense : timers_.loose;
+  ++c.steps;
+  c.particle_steps += n_grains_;
+  c.seconds += total - tallied_seconds_;
+  tallied_seconds_ = total;
 }
 
 template <int dim> void MdEngine<dim>::check_sanity() {

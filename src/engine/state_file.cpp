@@ -22,6 +22,7 @@ void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
 template <int dim>
 void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
                  const std::string& run_state) {
+  ScopedPhase io(ctx.stage_timers.io);
   Configuration<dim> c;
   c.cell = ctx.system.cell;
   c.particles = ctx.system.particles;

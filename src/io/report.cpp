@@ -14,6 +14,13 @@ namespace {
 template <class T> nlohmann::json opt(const std::optional<T>& v) {
   return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
+/// wall_split's keys (docs/report.md) and the parts they hold, for the writer and the reader.
+constexpr std::pair<const char*, double WallSplit::*> kWallSplitKeys[] = {
+    {"forces", &WallSplit::forces}, {"neighbor", &WallSplit::neighbor},
+    {"comm", &WallSplit::comm},     {"integrate", &WallSplit::integrate},
+    {"io", &WallSplit::io},         {"event_driven", &WallSplit::event_driven},
+    {"other", &WallSplit::other}};
+
 nlohmann::json stage_json(const StageReport& s) {
   nlohmann::json e;
   e["name"] = s.name;
@@ -49,6 +56,20 @@ nlohmann::json stage_json(const StageReport& s) {
                           {"forces_cpu", t->forces_cpu},
                           {"forces_cpu_slowest_rank", t->forces_cpu_slowest},
                           {"force_imbalance", t->force_imbalance()}};
+  if (const auto& w = s.wall_split)
+    for (const auto& [key, part] : kWallSplitKeys)
+      e["wall_split"][key] = (*w).*part;
+  if (const auto& m = s.md_classes) {
+    auto one = [](const StepClass& c) {
+      return nlohmann::json{{"steps", c.steps},
+                            {"particle_steps", c.particle_steps},
+                            {"seconds", c.seconds},
+                            {"particle_steps_per_second", opt(c.rate())}};
+    };
+    e["md_classes"] = {{"dense_contacts_per_grain", m->threshold},
+                       {"dense", one(m->dense)},
+                       {"loose", one(m->loose)}};
+  }
   return e;
 }
 template <class T> std::optional<T> opt_from(const nlohmann::json& e, const char* key) {
@@ -89,6 +110,25 @@ StageReport stage_from_json(const nlohmann::json& e) {
     p.forces_cpu = t.at("forces_cpu").get<double>();
     p.forces_cpu_slowest = t.at("forces_cpu_slowest_rank").get<double>();
     s.phase_seconds = p;
+  }
+  // Absent in files and checkpoints written before they were added.
+  if (e.contains("wall_split")) {
+    WallSplit w;
+    for (const auto& [key, part] : kWallSplitKeys)
+      w.*part = e["wall_split"].at(key).get<double>();
+    s.wall_split = w;
+  }
+  if (e.contains("md_classes")) {
+    const auto& t = e["md_classes"];
+    auto one = [](const nlohmann::json& c) {
+      StepClass k;
+      k.steps = c.at("steps").get<std::int64_t>();
+      k.particle_steps = c.at("particle_steps").get<std::int64_t>();
+      k.seconds = c.at("seconds").get<double>();
+      return k;
+    };
+    s.md_classes = StepClasses{t.at("dense_contacts_per_grain").get<double>(), one(t.at("dense")),
+                               one(t.at("loose"))};
   }
   return s;
 }

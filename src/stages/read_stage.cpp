@@ -15,13 +15,19 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const ReadStage& 
   GRANPACK_CHECK(ctx.system.particles.size() == 0,
                  "stage " << ctx.stage_index
                           << " (read) needs an empty sample: it must come first");
-  const FileMeta meta = read_file_meta(ctx.world, r.file);
-  if (meta.dimension != dim)
-    throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) +
-                     "] (read) file = \"" + r.file + "\" holds a " +
-                     std::to_string(meta.dimension) + "D sample, the deck is " +
-                     std::to_string(dim) + "D");
-  adopt_configuration(ctx, read_configuration<dim>(ctx.world, r.file));
+  FileMeta meta;
+  Configuration<dim> c;
+  {
+    ScopedPhase io(ctx.stage_timers.io);
+    meta = read_file_meta(ctx.world, r.file);
+    if (meta.dimension != dim)
+      throw InputError(ctx.deck->file + ": stage[" + std::to_string(ctx.stage_index) +
+                       "] (read) file = \"" + r.file + "\" holds a " +
+                       std::to_string(meta.dimension) + "D sample, the deck is " +
+                       std::to_string(dim) + "D");
+    c = read_configuration<dim>(ctx.world, r.file);
+  }
+  adopt_configuration(ctx, std::move(c));
   ctx.system.cell.rate.setZero();
   const std::int64_t n =
       global_sum(ctx.world, static_cast<std::int64_t>(ctx.system.particles.n_owned()));

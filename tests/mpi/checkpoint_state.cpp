@@ -12,6 +12,7 @@
 #include "granpack/core/error.h"
 #include "granpack/engine/checkpoint.h"
 #include "granpack/io/hdf5_store.h"
+#include "granpack/io/report.h"
 
 namespace granpack {
 namespace {
@@ -33,6 +34,30 @@ TEST(CheckpointState, GarbageRunStateIsAnInputErrorNamingTheFile) {
     EXPECT_NE(std::string(e.what()).find("dir/checkpoint.h5"), std::string::npos);
   }
   EXPECT_THROW(parse_run_state("not json", "f.h5"), InputError);
+}
+
+// The completed stages' entries travel in checkpoints as report.json text: the time split and
+// the MD step classes come back whole, and an entry written before they existed still reads.
+TEST(CheckpointState, StageEntriesKeepTheirTimingAndOldOnesRead) {
+  StageReport r;
+  r.name = r.kind = "compress";
+  r.steps = 30;
+  r.wall_seconds = 2.5;
+  r.wall_split = WallSplit{0.5, 0.25, 0.125, 0.0625, 0.75, 0.0, 0.8125};
+  r.md_classes = StepClasses{1.0, {20, 20 * 256, 1.5}, {10, 10 * 256, 0.0}};
+  const StageReport back = stage_report_from_json(stage_report_json(r));
+  ASSERT_TRUE(back.wall_split && back.md_classes);
+  EXPECT_EQ(back.wall_split->io, 0.75);
+  EXPECT_EQ(back.wall_split->other, 0.8125);
+  EXPECT_EQ(back.wall_split->listed() + back.wall_split->other, r.wall_seconds);
+  EXPECT_EQ(back.md_classes->dense.particle_steps, 20 * 256);
+  EXPECT_EQ(back.md_classes->dense.rate(), 20 * 256 / 1.5);
+  EXPECT_FALSE(back.md_classes->loose.rate()); // no seconds: written as null
+  EXPECT_EQ(stage_report_json(back), stage_report_json(r));
+  const StageReport old = stage_report_from_json(
+      R"({"name": "c", "kind": "compress", "steps": 3, "time": 0.1, "values": {},
+          "wall_seconds": 1.0})");
+  EXPECT_FALSE(old.wall_split || old.md_classes || old.phase_seconds);
 }
 
 const char* kDeck = R"(

@@ -8,6 +8,11 @@
 
 namespace granpack {
 
+/// Returns on each rank once every rank of comm got here.
+inline void barrier(MPI_Comm comm) {
+  MPI_Barrier(comm);
+}
+
 /// The wall clock (MPI_Wtime) once every rank of comm got here: two readings bracket the
 /// slowest rank's work, not this rank's.
 inline double synchronized_wtime(MPI_Comm comm) {

@@ -67,7 +67,7 @@ public:
   MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law, const MdSettings<dim>& settings);
   /// Adds the engine's phase times to the stage's (RunContext::stage_timers).
   ~MdEngine() {
-    ctx_.stage_timers += timers_;
+    ctx_.stage_timers.md += timers_;
     ctx_.stage_rebalances += rebalances_;
   }
   MdEngine(const MdEngine&) = delete;
@@ -111,6 +111,9 @@ private:
   void forces_and_observables();
   /// Holds the non-mobile grains at rest and adds the body forces (settings_.mobile).
   void hold_and_push();
+  /// Tallies the step just finished as dense or loose (by the contacts the step's all-reduce
+  /// counted: no communication) with the phase time since the last tally.
+  void tally_step();
 
   RunContext<dim>& ctx_;
   ContactLaw<dim> law_;
@@ -120,6 +123,8 @@ private:
   ContactForceLoop<dim> loop_;
   MdObservables<dim> obs_;
   StepTimers timers_;
+  double tallied_seconds_ = 0; ///< timers_.total() at the last tally_step()
+  std::int64_t n_grains_ = 0;  ///< over all ranks
   double max_radius_ = 0;
   std::int64_t rebuilds_ = 0, rebalances_ = 0;
 };

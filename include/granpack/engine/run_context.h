@@ -46,10 +46,11 @@ template <int dim> struct RunContext {
   /// front one. resume_mid_step: the first MD engine completes the interrupted time step.
   std::deque<nlohmann::json> resume;
   bool resume_mid_step = false;
-  /// This rank's time in the phases of the MD steps of the stage in progress: every MD
-  /// engine adds its timers when it ends; run_deck reduces them over the ranks at the stage
-  /// end (the report's phase_seconds) and resets them.
-  StepTimers stage_timers;
+  /// This rank's time in the parts of the stage in progress: the phases of the MD steps
+  /// (every MD engine adds its timers when it ends), the files written and read, the
+  /// event-driven engine; run_deck reduces them over the ranks at the stage end (the report's
+  /// phase_seconds, wall_split, md_classes) and resets them.
+  StageTimers stage_timers;
   /// How often the MD engines of the stage in progress moved the cut planes (load balancing).
   std::int64_t stage_rebalances = 0;
 

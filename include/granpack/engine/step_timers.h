@@ -8,21 +8,60 @@
 // The force phase is also timed in CPU time of the calling thread: the work a rank does,
 // which the wall time overstates when ranks share cores (oversubscribed tests, a loaded
 // node). The slowest rank's force CPU time over the mean is the load imbalance of the work.
+//
+// The steps are also tallied in two classes, dense and loose, by the contacts per grain the
+// step ended with (MdEngine::finish_step): the cost of a step grows with the contacts, so a
+// rate in particle-steps per second means something only within a class.
+//
+// A stage's time outside the MD steps that the report splits out (StageTimers): the writing
+// and reading of files, and the event-driven engine.
 #include <time.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 
 namespace granpack {
+
+/// A step is dense when its interacting pairs are at least this many per grain (z >= 2):
+/// a gas has far fewer (a grain meets another now and then: z << 1), a packing far more
+/// (z about 2 dim near jamming, 4 in 2D and 6 in 3D), so the split falls between the two
+/// regimes in both dimensions.
+inline constexpr double kDenseContactsPerGrain = 1.0;
+
+/// MD steps of one class: how many, the grain-steps they advanced (steps x grains) and the
+/// wall time of their phases on this rank.
+struct StepClassTally {
+  std::int64_t steps = 0, particle_steps = 0;
+  double seconds = 0;
+  StepClassTally& operator+=(const StepClassTally& o) {
+    steps += o.steps, particle_steps += o.particle_steps, seconds += o.seconds;
+    return *this;
+  }
+};
 
 struct StepTimers {
   double integrate = 0, neighbor = 0, comm = 0, forces = 0;
   double forces_cpu = 0; ///< CPU time of the force phase (within `forces`)
+  /// The steps by class; their seconds are the steps' share of the four phases (the engine's
+  /// set-up, its first list and forces, is in the phases and in neither class).
+  StepClassTally dense, loose;
   double total() const { return integrate + neighbor + comm + forces; }
   StepTimers& operator+=(const StepTimers& o) {
     integrate += o.integrate, neighbor += o.neighbor, comm += o.comm, forces += o.forces;
     forces_cpu += o.forces_cpu;
+    dense += o.dense, loose += o.loose;
     return *this;
   }
+};
+
+/// This rank's time in the parts of a stage that report.json splits out (docs/report.md,
+/// `wall_split`). The parts never overlap: a file written inside the event-driven phase counts
+/// as I/O only (ScopedPhaseExcept).
+struct StageTimers {
+  StepTimers md;           ///< the MD steps (every MD engine of the stage adds its timers)
+  double io = 0;           ///< configurations and checkpoints written (write_state), files read
+  double event_driven = 0; ///< ed_gas, ls_compress: gathering, the serial engine, handing back
 };
 
 /// CPU seconds of the calling thread so far.
@@ -58,6 +97,33 @@ public:
 private:
   double& sink_;
   double t0_;
+};
+
+/// Adds the seconds between construction and stop() (or destruction) to `sink`, less what
+/// `nested` gained meanwhile: a phase that contains another (the checkpoints written during an
+/// event-driven stage) does not count its seconds twice.
+class ScopedPhaseExcept {
+public:
+  ScopedPhaseExcept(double& sink, const double& nested)
+      : sink_(sink), nested_(nested), nested0_(nested), t0_(std::chrono::steady_clock::now()) {}
+  void stop() {
+    if (stopped_)
+      return;
+    stopped_ = true;
+    const double all =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    sink_ += std::max(0.0, all - (nested_ - nested0_));
+  }
+  ~ScopedPhaseExcept() { stop(); }
+  ScopedPhaseExcept(const ScopedPhaseExcept&) = delete;
+  ScopedPhaseExcept& operator=(const ScopedPhaseExcept&) = delete;
+
+private:
+  double& sink_;
+  const double& nested_;
+  double nested0_;
+  std::chrono::steady_clock::time_point t0_;
+  bool stopped_ = false;
 };
 
 } // namespace granpack

@@ -23,6 +23,31 @@ struct PhaseSeconds {
   double force_imbalance() const { return forces_cpu > 0 ? forces_cpu_slowest / forces_cpu : 1.0; }
 };
 
+/// A stage's wall time by part, mean over the ranks (engine/step_timers.h StageTimers): the
+/// four MD phases (as in PhaseSeconds), files written and read, the event-driven engine, and
+/// the rest, `other` = wall_seconds - the parts (set-up, analysis of the state, logging,
+/// equilibrium tests, waiting at the stage's start and end), so that the parts add up to
+/// wall_seconds.
+struct WallSplit {
+  double forces = 0, neighbor = 0, comm = 0, integrate = 0, io = 0, event_driven = 0, other = 0;
+  double listed() const { return forces + neighbor + comm + integrate + io + event_driven; }
+};
+
+/// MD steps of one class (dense or loose by contacts per grain): steps, grain-steps, the wall
+/// seconds of their phases (mean over the ranks) and the rate (none without seconds).
+struct StepClass {
+  std::int64_t steps = 0, particle_steps = 0;
+  double seconds = 0;
+  std::optional<double> rate() const {
+    return seconds > 0 ? std::optional<double>(static_cast<double>(particle_steps) / seconds)
+                       : std::nullopt;
+  }
+};
+struct StepClasses {
+  double threshold = 0; ///< a step is dense with at least this many contacts per grain
+  StepClass dense, loose;
+};
+
 struct StageReport {
   std::string name, kind;
   std::int64_t steps = 0; ///< time steps taken by the stage
@@ -37,6 +62,8 @@ struct StageReport {
   std::vector<StageReport> levels;
   double wall_seconds = 0;
   std::optional<PhaseSeconds> phase_seconds; ///< stages with MD steps
+  std::optional<WallSplit> wall_split;       ///< every stage (absent in files before it)
+  std::optional<StepClasses> md_classes;     ///< stages with MD steps
 
   /// Copies the state of the packing (pressure, kappa, z, z*, x0, x2, Z(2)) from another entry.
   void copy_state_metrics(const StageReport& from) {
