@@ -285,7 +285,7 @@ TEST(CheckpointState, CutPlanesRoundTripAndMustFitTheGrid) {
   ASSERT_EQ(s.cuts.size(), 3u);
   EXPECT_EQ(s.cuts[0], (std::vector<double>{0.0, c, 1.0}));
   EXPECT_EQ(s.cuts[2], (std::vector<double>{0.0, 1.0}));
-  for (const std::string bad :
+  for (const std::string& bad :
        {"[[" + x(0) + ", " + x(1) + "], " + one + ", " + one + "]",
         "[[" + x(0) + ", " + x(0.7) + ", " + x(0.7) + "], " + one + ", " + one + "]",
         "[[" + x(0.1) + ", " + x(0.5) + ", " + x(1) + "], " + one + ", " + one + "]",
