@@ -116,15 +116,6 @@ void scatter_back(RunContext<dim>& ctx, std::vector<Particle<dim>>& g,
   migrate(ctx.system, *ctx.decomposition);
 }
 
-/// The stage's event-driven part, from gathering the grains to handing them back: on rank 0
-/// the serial engine, on the others the wait for it (the report's `event_driven`; checkpoints
-/// written meanwhile count as I/O).
-template <int dim> class EventDrivenPhase : public ScopedPhaseExcept {
-public:
-  explicit EventDrivenPhase(RunContext<dim>& ctx)
-      : ScopedPhaseExcept(ctx.stage_timers.event_driven, ctx.stage_timers.io) {}
-};
-
 /// Collisions between two looks at the checkpoint requests: milliseconds of engine time
 /// (about 3e5 collisions/s for n = 4000), so a signal is honoured at once, and an
 /// all-reduce per piece costs nothing next to it.
@@ -211,7 +202,9 @@ template <int dim> void require_sample(const RunContext<dim>& ctx) {
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage& e) {
   require_sample(ctx);
   const int rank = rank_of(ctx.world);
-  EventDrivenPhase<dim> phase(ctx);
+  // The event-driven part, from gathering the grains to handing them back: on rank 0 the
+  // serial engine, on the others the wait for it (checkpoints written meanwhile count as I/O).
+  ScopedPhaseExcept phase(ctx.stage_timers.event_driven, ctx.stage_timers.io);
   auto g = gather_particles(ctx.system.particles, ctx.world);
   // collisions, hard-sphere time, reduced pressure Z, lattice order (-1: not measured), peaks
   double stats[5] = {0, 0, 0, -1, 0};
@@ -299,7 +292,9 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const EdGasStage&
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const LsCompressStage& l) {
   require_sample(ctx);
   const int rank = rank_of(ctx.world);
-  EventDrivenPhase<dim> phase(ctx);
+  // The event-driven part, from gathering the grains to handing them back: on rank 0 the
+  // serial engine, on the others the wait for it (checkpoints written meanwhile count as I/O).
+  ScopedPhaseExcept phase(ctx.stage_timers.event_driven, ctx.stage_timers.io);
   auto g = gather_particles(ctx.system.particles, ctx.world);
   // Collisions per grain in each interval [start, report_phi[0]], ..., [report_phi.back(), phi];
   // then the growth factor of the radii.
