@@ -26,7 +26,9 @@ for s in "${states[@]}"; do
 done
 [ -x "$exe" ] || { echo "ar_ensembles.sh: no granpack at $exe (bash jobs/setup.sh build)" >&2; exit 2; }
 mkdir -p out/ens
-queue=out/ens/queue.txt lock=out/ens/queue.lock
+# One queue per call (several calls may run side by side, each with its own workers).
+queue=out/ens/queue.$$.txt lock=out/ens/queue.$$.lock
+trap 'rm -f "$queue" "$lock"' EXIT
 : > "$queue"
 for s in "${states[@]}"; do for k in $seeds; do echo "$s $k" >> "$queue"; done; done
 
@@ -45,7 +47,7 @@ worker() {
     echo "[worker $1] $state seed $seed ($(date +%H:%M))"
     code=0
     mpirun -np 1 "$exe" run "jobs/decks/$state.toml" --samples 1 --first-seed "$seed" -o "$out" \
-      --restart --checkpoint-every-seconds 600 -q > "out/ens/worker$1.log" 2>&1 || code=$?
+      --restart --checkpoint-every-seconds 600 -q > "out/ens/worker$$.$1.log" 2>&1 || code=$?
     echo "[worker $1] $state seed $seed exit $code ($(date +%H:%M))"
     [ "$code" -eq 75 ] && return 75   # stop signal: leave the queue for the next call
   done
@@ -53,7 +55,8 @@ worker() {
 
 pids=()
 for w in $(seq 1 "$workers"); do worker "$w" & pids+=($!); done
-trap 'kill -TERM "${pids[@]}" 2>/dev/null; pkill -TERM -f "$(basename "$exe") run jobs/decks" || true' TERM INT
+# On a stop signal, this call's runs (the workers' mpirun children) get it, not another call's.
+trap 'for p in "${pids[@]}"; do pkill -TERM -P "$p"; done; kill -TERM "${pids[@]}" 2>/dev/null || true' TERM INT
 for p in "${pids[@]}"; do wait "$p" || true; done
 
 for s in "${states[@]}"; do

@@ -46,7 +46,7 @@ template <int dim> ContactLaw<dim> make_contact_law(const ContactLawParams& p) {
   }
   law.tangential.walton_rescaling = p.walton_rescaling;
   require(p.damping_ratio >= 0 && p.damping_ratio < 1, "damping ratio zeta must be in [0, 1)");
-  law.damping = NormalDamping{p.damping_ratio};
+  law.damping = NormalDamping{p.damping_ratio, p.damping_tension};
   require(p.friction >= 0, "friction coefficient mu must be >= 0 (inf allowed)"); // NaN fails
   law.friction = CoulombFriction{p.friction};
   require(std::isfinite(p.cohesion_force) && p.cohesion_force >= 0,

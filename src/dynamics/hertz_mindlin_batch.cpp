@@ -18,6 +18,7 @@ std::optional<HertzMindlinConstants> HertzMindlinConstants::of(const ContactLaw<
   else
     c.linear_k_n = std::get<LinearNormal>(law.normal).k_n;
   c.zeta = law.damping.zeta;
+  c.tension = law.damping.tension;
   c.k_t_ratio = law.tangential.value;
   c.walton = law.tangential.walton_rescaling;
   c.mu = law.friction.mu;
@@ -43,6 +44,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
   const double e_tilde = c.e_tilde, k_lin = hertz ? 0.0 : c.linear_k_n;
   const double n_factor = hertz ? kHertzForceFactor : kLinearForceFactor;
   const double two_zeta = 2.0 * c.zeta;
+  const bool tension = c.tension;
   const double k_t_ratio = c.k_t_ratio, mu = c.mu;
   const bool walton = c.walton && hertz; // the linear law's stiffness ratio is 1
   const double half_dt = 0.5 * dt;
@@ -90,7 +92,8 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     // Normal elasticity and damping.
     const double k_n = hertz_stiffness(e_tilde, r_eff, hp) + k_lin;
     const double n_el = normal_elastic_force(n_factor, k_n, hp);
-    const double n_visc = viscous_coefficient(two_zeta, m_eff, k_n) * h_dot;
+    const double n_visc =
+        applied_viscous_force(viscous_coefficient(two_zeta, m_eff, k_n) * h_dot, n_el, tension);
 
     // Rotation of the contact over the step (contact_rotation_3d): rolling n x dn + pivoting.
     const Xyz normal{nx, ny, nz};

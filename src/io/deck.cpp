@@ -187,6 +187,8 @@ MaterialSpec read_material(TableReader& r) {
   m.friction = r.number("friction", Range::non_negative(), "friction coefficient mu (inf allowed)");
   m.damping =
       r.number("damping", Range::half_open(0.0, 1.0), "viscous damping zeta, fraction of critical");
+  m.damping_tension = r.boolean_or("damping_tension", true,
+                                   "may the viscous force make a contact pull (N^e + N^v < 0)");
   // [GRC] cohesion and rolling resistance: optional, both keys of a pair or neither.
   const Range finite = Range::half_open(0.0, std::numeric_limits<double>::infinity());
   m.cohesion_force = r.number_or("cohesion_force", 0.0, finite, "maximum attractive force F0 in N");

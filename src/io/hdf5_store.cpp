@@ -495,6 +495,7 @@ void write_parameters(const FileContext& ctx, hid_t file, const StateParameters&
   write_attribute(ctx, g, "normal_law", std::string(normal_law_name(law.normal)));
   write_attribute(ctx, g, "tangential_law", std::string(tangential_law_name(law.tangential)));
   write_attribute(ctx, g, "walton_rescaling", law.walton_rescaling ? 1 : 0);
+  write_attribute(ctx, g, "damping_tension", law.damping_tension ? 1 : 0);
   for (const auto& [name, member] : kLawNumbers)
     write_attribute(ctx, g, name, law.*member);
   const StressTarget& t = p.stress_target;
@@ -540,6 +541,12 @@ StateParameters read_parameters(const FileContext& ctx, hid_t file, int dim) {
     ctx.fail("attribute " + where + "tangential_law = '" + tangential +
              "' (mindlin, ratio or constant)");
   law.walton_rescaling = read_attribute<int>(ctx, g, where, "walton_rescaling") != 0;
+  // Written since 2026-12-06; older files had no choice (the damping could pull).
+  const htri_t has_tension = H5Aexists(g, "damping_tension");
+  if (has_tension < 0)
+    ctx.fail("cannot look up attribute " + where + "damping_tension", true);
+  law.damping_tension =
+      has_tension == 0 || read_attribute<int>(ctx, g, where, "damping_tension") != 0;
   for (const auto& [name, member] : kLawNumbers)
     law.*member = number(name);
   StressTarget& t = p.stress_target;

@@ -16,6 +16,7 @@ ContactLawParams contact_law_params(const MaterialSpec& m) {
     p.k_t_ratio = m.tangential_stiffness_ratio;
   }
   p.damping_ratio = m.damping;
+  p.damping_tension = m.damping_tension;
   p.friction = m.friction;
   p.cohesion_force = m.cohesion_force;
   p.cohesion_range = m.cohesion_range;

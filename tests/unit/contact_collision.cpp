@@ -3,6 +3,7 @@
 // in 2D and 3D (docs/contact-law.md, SPEC §8 step 2).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -19,6 +20,7 @@ struct Collision {
   bool separated = false;
   double duration = 0;    // time with h > 0 (crossings interpolated linearly)
   double restitution = 0; // -(separation velocity) / (approach velocity), at the end
+  double min_normal = 0;  // smallest total normal force N^e + N^v during the contact
 };
 
 /// Grain i at rest, j approaching along -n at speed v (equal radii r and masses m). The gap at
@@ -34,7 +36,7 @@ Collision collide(const ContactLaw<dim>& law, double r, double m, double v, doub
   Vec<dim> vi = Vec<dim>::Zero(), vj = -v * n;
   Vec<dim> fj = Vec<dim>::Zero();
   ContactState<dim> st;
-  double h_prev = 2 * r - (xj - xi).norm(), t = 0, t_start = -1, t_end = -1;
+  double h_prev = 2 * r - (xj - xi).norm(), t = 0, t_start = -1, t_end = -1, min_normal = 0;
   for (long s = 0; s < max_steps && t_end < 0; ++s) {
     vi -= (0.5 * dt / m) * fj;
     vj += (0.5 * dt / m) * fj;
@@ -45,7 +47,10 @@ Collision collide(const ContactLaw<dim>& law, double r, double m, double v, doub
     ContactKinematics<dim> kin;
     kin.v_i = vi;
     kin.v_j = vj;
-    fj = law.force(g, kin, st, dt).force_on_j;
+    const ContactForces<dim> f = law.force(g, kin, st, dt);
+    fj = f.force_on_j;
+    if (f.active)
+      min_normal = std::min(min_normal, f.normal_total);
     vi -= (0.5 * dt / m) * fj;
     vj += (0.5 * dt / m) * fj;
     const double h = g.overlap;
@@ -55,16 +60,17 @@ Collision collide(const ContactLaw<dim>& law, double r, double m, double v, doub
       t_end = t - dt * h / (h - h_prev);
     h_prev = h;
   }
-  return {t_end > 0, t_end - t_start, (vj - vi).dot(n) / v};
+  return {t_end > 0, t_end - t_start, (vj - vi).dot(n) / v, min_normal};
 }
 
 constexpr double kE = 70e9, kNu = 0.3, kRho = 2500, kD = 1e-3;
 
-ContactLaw<3> glass_law(double zeta) {
+ContactLaw<3> glass_law(double zeta, bool tension = true) {
   ContactLawParams p;
   p.young_modulus = kE;
   p.poisson_ratio = kNu;
   p.damping_ratio = zeta;
+  p.damping_tension = tension;
   p.friction = 0.3;
   return make_contact_law<3>(p);
 }
@@ -112,6 +118,37 @@ TEST(ContactCollision, HertzRestitutionDecreasesWithZetaAndIgnoresVelocity) {
       EXPECT_NEAR(c[1].restitution, 0.0, 1e-6);
     }
     previous = c[1].restitution;
+  }
+}
+
+// With the damping not allowed to pull (damping_tension = false, N^v >= -N^e), the unloading
+// grains are never held back: they separate at every ζ, ζ = 0.98 included, where the default
+// law holds them together (e = 0 above); N^e + N^v never goes below 0; e still depends on ζ
+// only (the clipped equation keeps the scaling h -> λh, t -> λ^{-1/4} t) and exceeds the
+// default law's e at the same ζ, whose end-of-contact pull slows the separation.
+TEST(ContactCollision, DampingWithoutTensionNeverPullsAndAlwaysSeparates) {
+  const double r = kD / 2, m = kRho * std::numbers::pi * kD * kD * kD / 6;
+  const double e_tilde = kE / (1 - kNu * kNu);
+  for (double zeta : {0.2, 0.5, 0.98}) {
+    Collision c[2];
+    int k = 0;
+    for (double v : {0.01, 1.0}) {
+      const double tau = hertz_contact_duration(e_tilde, r / 2, m / 2, v);
+      c[k++] = collide<3>(glass_law(zeta, false), r, m, v, tau / 2000, 100'000);
+    }
+    const double tau = hertz_contact_duration(e_tilde, r / 2, m / 2, 1.0);
+    const Collision pulled = collide<3>(glass_law(zeta), r, m, 1.0, tau / 2000, 100'000);
+    std::printf("Hertz zeta=%.2f without tension: e(V=0.01) %.6g, e(V=1) %.6g; with: %.6g, "
+                "min N %.3g / %.3g\n",
+                zeta, c[0].restitution, c[1].restitution, pulled.restitution, c[1].min_normal,
+                pulled.min_normal);
+    ASSERT_TRUE(c[0].separated && c[1].separated);
+    EXPECT_GT(c[1].restitution, 0.0);
+    EXPECT_NEAR(c[0].restitution / c[1].restitution, 1.0, 0.01);
+    EXPECT_GT(c[1].restitution, pulled.restitution);
+    EXPECT_GE(c[0].min_normal, 0.0);
+    EXPECT_GE(c[1].min_normal, 0.0);
+    EXPECT_LT(pulled.min_normal, 0.0); // the default law pulls at the end of the contact
   }
 }
 

@@ -20,8 +20,9 @@ namespace {
 constexpr double kRho = 2500, kA = 1e-3; // glass, a = 1 mm
 const double kInf = std::numeric_limits<double>::infinity();
 
-ContactLawParams hertz_params(double mu, double zeta, bool walton = true) {
+ContactLawParams hertz_params(double mu, double zeta, bool walton = true, bool tension = true) {
   ContactLawParams p;
+  p.damping_tension = tension;
   p.young_modulus = 70e9;
   p.poisson_ratio = 0.3;
   p.friction = mu;
@@ -192,9 +193,9 @@ int compare(const ContactLaw<3>& law, const std::vector<Case>& cases, double dt)
 TEST(HertzMindlinBatch, MatchesScalarLawOnDenseContacts) {
   std::mt19937_64 rng(42);
   const double dt = 1e-7;
-  for (const auto& p :
-       {hertz_params(0.3, 0.98), hertz_params(0.3, 0.0), hertz_params(kInf, 0.5),
-        hertz_params(0.0, 0.98), hertz_params(0.3, 0.98, false), linear_params(0.5, 0.3)}) {
+  for (const auto& p : {hertz_params(0.3, 0.98), hertz_params(0.3, 0.0), hertz_params(kInf, 0.5),
+                        hertz_params(0.0, 0.98), hertz_params(0.3, 0.98, false),
+                        hertz_params(0.3, 0.98, true, false), linear_params(0.5, 0.3)}) {
     const ContactLaw<3> law = make_contact_law<3>(p);
     int flagged = 0, total = 0;
     for (int batch = 0; batch < 20; ++batch) {
@@ -207,6 +208,33 @@ TEST(HertzMindlinBatch, MatchesScalarLawOnDenseContacts) {
     // turns by ~1e-7 rad per step. A kernel that flagged them would be the scalar loop.
     EXPECT_LT(flagged, total / 50) << "mu = " << p.friction << ", zeta = " << p.damping_ratio;
   }
+}
+
+// damping_tension = false: the batch limits N^v to -N^e as the scalar law does (compared
+// above); here, that the dense cases do reach the limit, so that the comparison tests it:
+// with the default law some lanes pull (N^e + N^v < 0), without tension those sit at 0.
+TEST(HertzMindlinBatch, DampingWithoutTensionStopsAtZeroNormalForce) {
+  std::mt19937_64 rng(11);
+  const ContactLaw<3> pulling = make_contact_law<3>(hertz_params(0.3, 0.98));
+  const ContactLaw<3> pushing = make_contact_law<3>(hertz_params(0.3, 0.98, true, false));
+  const auto cases = dense_cases(pulling, rng, 128);
+  auto b = std::make_unique<HertzMindlinBatch>();
+  fill(*b, cases);
+  HertzMindlinSums sums;
+  evaluate(*HertzMindlinConstants::of(pushing), *b, cases.size(), 1e-7, sums);
+  int pulled = 0;
+  for (std::size_t l = 0; l < cases.size(); ++l) {
+    Case k = cases[l];
+    const auto geo = make_pair_geometry<3>(k.ri, k.rj, k.mi, k.mj, k.r);
+    const ContactForces<3> f = pulling.force(geo, k.kin, k.state, 1e-7);
+    if (b->exact[l] || !(f.normal_total < 0))
+      continue;
+    ++pulled;
+    const Vec<3> t(b->tx[l], b->ty[l], b->tz[l]);
+    const Vec<3> force(b->fx[l], b->fy[l], b->fz[l]);
+    EXPECT_NEAR(force.dot(geo.normal), 0.0, 1e-12 * f.normal_elastic + 1e-14 * t.norm());
+  }
+  EXPECT_GE(pulled, 8);
 }
 
 TEST(HertzMindlinBatch, SlidingContactsStayOnTheCone) {

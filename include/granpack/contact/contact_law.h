@@ -104,7 +104,8 @@ template <int dim> struct ContactLaw {
 
     // Normal elasticity and damping.
     const NormalResponse nr = normal_response(normal, g.overlap, g.effective_radius);
-    const double n_visc = damping.coefficient(g.effective_mass, nr.stiffness) * h_dot;
+    const double n_visc = applied_viscous_force(
+        damping.coefficient(g.effective_mass, nr.stiffness) * h_dot, nr.force, damping.tension);
 
     // Tangential: transport (App. B), Walton (App. A), increment (eq. 3), Coulomb.
     Vec<dim> t = transport_tangential<dim>(state.tangential_force,

@@ -15,10 +15,11 @@ struct ContactLawParams {
   double poisson_ratio = 0; ///< ν (Hertz; also kMindlin tangential)
   double k_n = 0;           ///< linear normal stiffness K_N
   TangentialStiffnessKind tangential = TangentialStiffnessKind::kMindlin;
-  double k_t = 0;           ///< kConstant: K_T
-  double k_t_ratio = 0;     ///< kRatio: K_T / K_N
-  double damping_ratio = 0; ///< ζ in [0, 1)
-  double friction = 0;      ///< μ in [0, +inf]
+  double k_t = 0;              ///< kConstant: K_T
+  double k_t_ratio = 0;        ///< kRatio: K_T / K_N
+  double damping_ratio = 0;    ///< ζ in [0, 1)
+  bool damping_tension = true; ///< NormalDamping::tension
+  double friction = 0;         ///< μ in [0, +inf]
   bool walton_rescaling = true;
   // [GRC] parts, off when 0: cohesion needs F0 > 0 and D0 > 0; rolling resistance K_r > 0
   // (μ_r >= 0, inf allowed).

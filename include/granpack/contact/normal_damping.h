@@ -2,7 +2,12 @@
 // Normal viscous damping ([AR] eq. 4-5, [GRC] eq. 6): N^v = α ḣ with
 // α = ζ · 2 sqrt(m* K_N(h)), a fraction ζ of the critical damping of the linear spring K_N(h)
 // carrying the reduced mass m*. For equal masses m (m* = m/2): α = ζ sqrt(2 m K_N) (eq. 5).
-// Active only in true contact (h > 0); the viscous force may be attractive (not clipped).
+// Active only in true contact (h > 0). By default the viscous force may make the total
+// N^e + N^v attractive at the end of a damped collision, as [GRC] write it ("opposes the normal
+// relative receding velocity as long as the contact persists"); [AR] do not say. With
+// `tension = false` it is limited to N^v >= -N^e (no pull), as many DEM codes do: a switch for
+// the controlled experiments of docs/reproduction.md.
+#include <algorithm>
 #include <cmath>
 
 namespace granpack {
@@ -13,8 +18,15 @@ inline double viscous_coefficient(double two_zeta, double m_eff, double k_n) {
   return two_zeta * std::sqrt(m_eff * k_n);
 }
 
+/// N^v as applied, given the elastic N^e: unchanged when the damping may pull (`tension`),
+/// else at least -N^e so that N^e + N^v >= 0. Shared by NormalDamping's users and the batch.
+inline double applied_viscous_force(double n_visc, double n_elastic, bool tension) {
+  return tension ? n_visc : std::max(n_visc, -n_elastic);
+}
+
 struct NormalDamping {
-  double zeta = 0; ///< fraction of critical damping, in [0, 1)
+  double zeta = 0;     ///< fraction of critical damping, in [0, 1)
+  bool tension = true; ///< N^e + N^v may be < 0 (false: N^v limited to -N^e)
 
   /// α(h) for reduced mass m* and current normal stiffness K_N(h).
   double coefficient(double m_eff, double k_n) const {

@@ -25,6 +25,7 @@ struct HertzMindlinConstants {
   double e_tilde = 0;    ///< Hertz Ẽ (linear_k_n = 0) ...
   double linear_k_n = 0; ///< ... or a linear spring K_N (e_tilde = 0)
   double zeta = 0;       ///< damping fraction ζ
+  bool tension = true;   ///< N^e + N^v may pull (NormalDamping::tension)
   double k_t_ratio = 0;  ///< K_T / K_N
   bool walton = true;    ///< Walton rescaling of T when N^e decreases
   double mu = 0;         ///< Coulomb coefficient (may be +inf)
