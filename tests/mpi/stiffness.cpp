@@ -280,10 +280,15 @@ void expect_matches_dense(const std::string& tag, const std::filesystem::path& f
   for (const auto& [e, dense] : {std::pair{&json["constitutive"]["elastic_tensor"], &d.tensor_k1},
                                  std::pair{&json["elastic_tensor"], &d.tensor}}) {
     const double top = dense->cwiseAbs().maxCoeff();
+    double worst = 0;
     for (int i = 0; i < dense->rows(); ++i)
-      for (int k = 0; k < dense->cols(); ++k)
-        EXPECT_NEAR((*e)["c"][i][k].template get<double>(), (*dense)(i, k), 1e-8 * top)
-            << tag << " c(" << i << ", " << k << ")";
+      for (int k = 0; k < dense->cols(); ++k) {
+        const double got = (*e)["c"][i][k].template get<double>();
+        EXPECT_NEAR(got, (*dense)(i, k), 1e-8 * top) << tag << " c(" << i << ", " << k << ")";
+        worst = std::max(worst, std::abs(got - (*dense)(i, k)) / top);
+      }
+    std::printf("[ stiffness ] %s: elastic tensor %s equals the dense one to %.2g of max |c|\n",
+                tag.c_str(), dense == &d.tensor ? "(K)" : "(K1)", worst);
   }
   EXPECT_NEAR(json["elastic_tensor"]["bulk_voigt"].get<double>(),
               json["bulk_modulus"].get<double>(), 1e-12 * d.bulk);
