@@ -41,6 +41,23 @@ template <int dim> Eigen::Matrix<double, rot_dim<dim>, dim> cross_with(const Vec
   return y;
 }
 
+/// E: the dim x strains() map from the strain unknowns to eps.r (r = r_ij): eps_aa r_a /
+/// L_a for a diagonal strain, (gamma / 2)(r_b e_a + r_a e_b) / s_I for the shear (a, b).
+template <int dim> DynMatrix strain_map(const Vec<dim>& r, const RigidityLayout<dim>& l) {
+  DynMatrix e = DynMatrix::Zero(dim, l.strains());
+  for (int i = 0; i < l.strains(); ++i) {
+    const auto [a, b] = voigt_pair<dim>(i);
+    const double s = l.strain_scale(i);
+    if (a == b) {
+      e(a, i) = r[a] / s;
+    } else {
+      e(a, i) = 0.5 * r[b] / s;
+      e(b, i) = 0.5 * r[a] / s;
+    }
+  }
+  return e;
+}
+
 /// W: the real relative displacement w = u_j - u_i (= ũ_j - ũ_i - eps r_ij) of the centres.
 template <int dim>
 DynMatrix centre_motion_map(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
@@ -49,8 +66,7 @@ DynMatrix centre_motion_map(const RigidityContact<dim>& c, const RigidityLayout<
   DynMatrix w = DynMatrix::Zero(dim, l.local_size());
   w.block(0, o.ui, dim, dim) = -Tensor<dim>::Identity();
   w.block(0, o.uj, dim, dim) = Tensor<dim>::Identity();
-  for (int a = 0; a < dim; ++a)
-    w(a, o.e + a) = -r[a] / l.cell[a];
+  w.block(0, o.e, dim, l.strains()) = -strain_map<dim>(r, l);
   return w;
 }
 
@@ -67,9 +83,7 @@ DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const Rigidit
     d.block(0, o.ri, dim, rot_dim<dim>) = spin_matrix<dim>(g.branch_i()) / l.ell;
     d.block(0, o.rj, dim, rot_dim<dim>) = -spin_matrix<dim>(g.branch_j()) / l.ell;
   }
-  const Vec<dim> r = g.distance * g.normal;
-  for (int a = 0; a < dim; ++a)
-    d(a, o.e + a) = r[a] / l.cell[a];
+  d.block(0, o.e, dim, l.strains()) = strain_map<dim>(g.distance * g.normal, l);
   return d;
 }
 
@@ -178,10 +192,16 @@ DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<di
     k.block(o.ri, 0, rot_dim<dim>, m) = moment_change(g.branch_i().norm());
     k.block(o.rj, 0, rot_dim<dim>, m) = moment_change(g.branch_j().norm());
   }
-  // Omega Sigma_alpha = sum F_alpha r_alpha: ΔF_alpha r_alpha + F_alpha w_alpha.
+  // Omega Sigma_ab = sum (F_a r_b + F_b r_a) / 2 (the loads E(r)ᵀ F, E linear in r): the
+  // change ΔF_a r_b + F_a w_b, symmetrised, r moving with the centres (Δr = w).
   const Vec<dim> rv = r * n;
-  for (int a = 0; a < dim; ++a)
-    k.row(o.e + a) = (rv[a] * d_force.row(a) + force[a] * w.row(a)) / l.cell[a];
+  for (int i = 0; i < l.strains(); ++i) {
+    const auto [a, b] = voigt_pair<dim>(i);
+    DynMatrix row = rv[b] * d_force.row(a) + force[a] * w.row(b);
+    if (a != b)
+      row = 0.5 * (row + rv[a] * d_force.row(b) + force[b] * w.row(a));
+    k.row(o.e + i) = row / l.strain_scale(i);
+  }
   return k;
 }
 

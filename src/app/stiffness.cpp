@@ -6,6 +6,7 @@
 #ifdef GRANPACK_HAVE_RIGIDITY // the executable reports NotImplemented without the layer
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 
 #include "granpack/analysis/force_statistics.h"
 #include "granpack/app/analysis_sections.h"
+#include "granpack/app/stiffness_elastic_report.h"
 #include "granpack/comm/allgather.h"
 #include "granpack/comm/communicator.h"
 #include "granpack/comm/reduce.h"
@@ -73,23 +75,27 @@ template <int dim> double z_five_thirds(const PackingView<dim>& v) {
   return sums.sums()[3] / sums.contacts() / std::pow(mean, 5.0 / 3.0);
 }
 
-/// Eigenvalues, ascending, of the symmetric part of a Schur complement.
+/// Eigenvalues, ascending, of the symmetric part of the diagonal strains' Schur complement
+/// ([AR]'s strain unknowns, on which the mechanisms are counted).
 template <int dim> Vec<dim> schur_eigenvalues(const Moduli<dim>& m) {
-  return Eigen::SelfAdjointEigenSolver<Tensor<dim>>(0.5 * (m.schur + m.schur.transpose()))
-      .eigenvalues();
+  const Tensor<dim> c = m.diagonal_schur();
+  return Eigen::SelfAdjointEigenSolver<Tensor<dim>>(0.5 * (c + c.transpose())).eigenvalues();
 }
 
 template <int dim> nlohmann::json moduli_json(const Moduli<dim>& m, bool valid) {
   if (!valid)
     return {{"bulk_modulus", nullptr},
             {"shear_modulus_diag", nullptr},
-            {"c_diagonal_strains", nullptr}};
+            {"c_diagonal_strains", nullptr},
+            {"elastic_tensor", nullptr}};
   std::vector<std::vector<double>> c(dim, std::vector<double>(dim));
   for (int a = 0; a < dim; ++a)
     for (int b = 0; b < dim; ++b)
       c[a][b] = m.stiffness(a, b);
-  return {
-      {"bulk_modulus", m.bulk}, {"shear_modulus_diag", m.shear_diag}, {"c_diagonal_strains", c}};
+  return {{"bulk_modulus", m.bulk},
+          {"shear_modulus_diag", m.shear_diag},
+          {"c_diagonal_strains", c},
+          {"elastic_tensor", elastic_tensor_json<dim>(m.tensor, m.affine)}};
 }
 
 template <int dim>
@@ -131,8 +137,7 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   BorderedMatrix<dim>& mech = s.mechanism_matrix();
   const DirectSolver chol = factorize(mech.uu, true, opt.null_pivot_threshold);
   const GrainSolve mech_solve = [&](::Vec b, ::Vec x) { chol.solve(b, x); };
-  const Moduli<dim> mm =
-      condense<dim>(mech, mech_solve, v.system.cell.length, volume, Vec<dim>::Zero());
+  const Moduli<dim> mm = condense<dim>(mech, mech_solve, s.layout, volume, VoigtVec<dim>::Zero());
   // Strain mechanisms: the null space of the (symmetric) Schur complement.
   const Vec<dim> mech_schur = schur_eigenvalues(mm);
   int strain_mechanisms = 0;
@@ -160,8 +165,8 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
       smallest_eigenvalues(s.k1.uu, k1f, opt.eigenvalues, s.mean_kn, &eigen_seconds);
   const Moduli<dim> m1 = !own_k1 ? mm
                                  : condense<dim>(
-                                       s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); },
-                                       v.system.cell.length, volume, Vec<dim>::Zero());
+                                       s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); }, s.layout,
+                                       volume, VoigtVec<dim>::Zero());
   const bool positive_definite = rigid && k1f.null_pivots == 0 && k1f.negative_pivots == 0 &&
                                  k1_negative == 0 && schur_eigenvalues(m1)[0] > 1e-9 * s.mean_kn &&
                                  !eig.empty() && eig.front() > 0;
@@ -182,8 +187,8 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
     // K = K(1) + K(2): GMRES preconditioned by the K(1) factors (no second factorisation).
     PreconditionedSolver gmres = krylov_with_factors(s.k.uu, k1f, 1e-13);
     m = condense<dim>(
-        s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, v.system.cell.length, volume,
-        Vec<dim>(v.stress.diagonal()));
+        s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, s.layout, volume,
+        stress_to_voigt<dim>(v.stress));
     gmres_iterations = gmres.iterations;
   }
 
@@ -374,6 +379,12 @@ std::string table(const nlohmann::json& j) {
                                                count(j["gmres_iterations_K"]) + ")"},
   };
   std::vector<std::pair<std::string, std::string>> all = lines;
+  // The tensor's lines after the diagonal-strain moduli.
+  const auto shear = std::find_if(all.begin(), all.end(), [](const auto& line) {
+    return line.first.starts_with("shear modulus");
+  });
+  const auto tensor = elastic_tensor_lines(j["elastic_tensor"]);
+  all.insert(shear + 1, tensor.begin(), tensor.end());
   const auto& other = j["other_mechanism_grains"];
   for (std::size_t k = 0; k < other.size() && k < 5; ++k) {
     std::string ids;

@@ -29,7 +29,7 @@ void pin(BorderedMatrix<dim>& b, std::int64_t index, int g, bool owner, double d
   const PetscInt n = owner ? dim : 0;
   GRANPACK_PETSC(MatZeroRowsColumns(b.uu, n, rows.data(), diagonal, nullptr, nullptr));
   const std::vector<PetscScalar> zero(dim, 0.0);
-  for (int a = 0; a < dim; ++a)
+  for (int a = 0; a < voigt_size<dim>; ++a)
     for (::Vec x : {b.ue[a].get(), b.eu[a].get()}) {
       GRANPACK_PETSC(VecSetValues(x, n, rows.data(), zero.data(), INSERT_VALUES));
       GRANPACK_PETSC(VecAssemblyBegin(x));
@@ -90,7 +90,7 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
     PetscReal r = 0, m = 0, border = 0;
     GRANPACK_PETSC(VecNorm(image, NORM_2, &r));
     GRANPACK_PETSC(VecNorm(modes, NORM_2, &m));
-    for (int a = 0; a < dim; ++a) {
+    for (int a = 0; a < voigt_size<dim>; ++a) {
       PetscScalar dot = 0;
       GRANPACK_PETSC(VecDot(s.k1.eu[a], modes, &dot));
       border += dot * dot;

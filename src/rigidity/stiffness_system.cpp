@@ -40,39 +40,41 @@ template <int dim>
 void init_bordered(BorderedMatrix<dim>& b, MPI_Comm comm, PetscInt g, PetscInt local_grains,
                    const std::vector<PetscInt>& nnz) {
   b.uu = grain_matrix(comm, g, local_grains, nnz);
-  for (int a = 0; a < dim; ++a) {
+  for (int a = 0; a < voigt_size<dim>; ++a) {
     b.ue[a] = grain_vector(comm, local_grains * g);
     b.eu[a] = grain_vector(comm, local_grains * g);
   }
 }
 
-/// Adds the m x m local block (unknowns u_i rho_i, u_j rho_j, e) at the grains' rows.
+/// Adds the m x m local block (unknowns u_i rho_i, u_j rho_j, e: every strain) at the grains'
+/// rows.
 template <int dim>
 void add_block(BorderedMatrix<dim>& b, const DynMatrix& block, const std::vector<PetscInt>& rows,
                int g) {
+  constexpr int nv = voigt_size<dim>;
   const int two_g = 2 * g;
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> uu =
       block.topLeftCorner(two_g, two_g);
   GRANPACK_PETSC(MatSetValues(b.uu, two_g, rows.data(), two_g, rows.data(), uu.data(), ADD_VALUES));
-  for (int a = 0; a < dim; ++a) {
+  for (int a = 0; a < nv; ++a) {
     const DynVector col = block.block(0, two_g + a, two_g, 1);
     const DynVector row = block.block(two_g + a, 0, 1, two_g).transpose();
     GRANPACK_PETSC(VecSetValues(b.ue[a], two_g, rows.data(), col.data(), ADD_VALUES));
     GRANPACK_PETSC(VecSetValues(b.eu[a], two_g, rows.data(), row.data(), ADD_VALUES));
   }
-  b.ee += block.bottomRightCorner(dim, dim);
+  b.ee += block.bottomRightCorner(nv, nv);
 }
 
 template <int dim> void finish_bordered(BorderedMatrix<dim>& b, MPI_Comm comm) {
   GRANPACK_PETSC(MatAssemblyBegin(b.uu, MAT_FINAL_ASSEMBLY));
   GRANPACK_PETSC(MatAssemblyEnd(b.uu, MAT_FINAL_ASSEMBLY));
-  for (int a = 0; a < dim; ++a) {
+  for (int a = 0; a < voigt_size<dim>; ++a) {
     GRANPACK_PETSC(VecAssemblyBegin(b.ue[a]));
     GRANPACK_PETSC(VecAssemblyEnd(b.ue[a]));
     GRANPACK_PETSC(VecAssemblyBegin(b.eu[a]));
     GRANPACK_PETSC(VecAssemblyEnd(b.eu[a]));
   }
-  global_sum_in_place(comm, std::span<double>(b.ee.data(), dim * dim));
+  global_sum_in_place(comm, std::span<double>(b.ee.data(), b.ee.size()));
 }
 
 } // namespace
@@ -108,6 +110,9 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   s.layout.rolling = s.layout.rotations && law.rolling.has_value();
   s.layout.ell = 0.5 * v.diameter;
   s.layout.cell = v.system.cell.length;
+  s.layout.shear_strains = true; // the stiffness border: every strain (the elastic tensor)
+  RigidityLayout<dim> g_layout = s.layout;
+  g_layout.shear_strains = false; // G: [AR]'s diagonal strains, on which k and H are counted
   const int g = s.grain_dofs();
 
   // Backbone grains and contacts of this rank, then the partition and numbering.
@@ -208,7 +213,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
       for (int a = 0; a < dim; ++a)
         cols[2 * g + a] = strain_col + a;
       const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> grows =
-          rigidity_rows(rc, s.layout);
+          rigidity_rows(rc, g_layout);
       const int rows_c = s.layout.rows_per_contact(rc.distant);
       std::vector<PetscInt> grow_idx(rows_c);
       for (int k = 0; k < rows_c; ++k)

@@ -16,7 +16,8 @@ import json, sys
 j = json.load(open(sys.argv[1]))
 need = ["mechanisms", "trivial_mechanisms", "divalent_mechanisms", "H", "H_over_Nf", "isostatic",
         "positive_definite", "virtual_work_residual", "bulk_modulus", "bulk_modulus_eq30",
-        "shear_modulus_diag", "partition", "timings_seconds", "divalent_grains", "rattler_grains"]
+        "shear_modulus_diag", "partition", "timings_seconds", "divalent_grains", "rattler_grains",
+        "elastic_tensor"]
 missing = [k for k in need if k not in j]
 assert not missing, missing
 assert j["ranks"] == 2 and j["n"] == 256, (j["ranks"], j["n"])

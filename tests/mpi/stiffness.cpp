@@ -13,7 +13,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "few_ranks.h"
 #include "granpack/analysis/rigidity_blocks.h"
 #include "granpack/app/run_deck.h"
 #include "granpack/app/stiffness.h"
@@ -23,9 +22,12 @@
 #include "granpack/rigidity/petsc_support.h"
 #include "granpack/rigidity/stiffness_system.h"
 #include "mpi_world.h"
+#include "stiffness_runs.h"
 #include "test_paths.h"
 
 using namespace granpack;
+using test::run_stiffness;
+using test::run_text_deck;
 
 namespace {
 
@@ -34,38 +36,6 @@ int rank_of() {
 }
 int size_of() {
   return test::world_size();
-}
-
-nlohmann::json run_stiffness(const std::filesystem::path& file, double threshold = 1e-4) {
-  StiffnessOptions o;
-  o.file = file;
-  o.threshold = threshold;
-  // An exception must not leave the capture open: the next test's capture would abort the
-  // whole executable, and the exception's message would be lost.
-  testing::internal::CaptureStdout();
-  std::string text;
-  try {
-    text = stiffness_file(MPI_COMM_WORLD, o);
-  } catch (...) {
-    std::fputs(testing::internal::GetCapturedStdout().c_str(), stdout);
-    throw;
-  }
-  testing::internal::GetCapturedStdout();
-  return nlohmann::json::parse(text);
-}
-
-/// Runs a deck (text) into a scratch directory; returns final.h5.
-std::filesystem::path run_text_deck(const std::string& tag, const std::string& text) {
-  const auto dir = test::scratch_dir(tag + "_np" + std::to_string(size_of()));
-  if (rank_of() == 0)
-    std::ofstream(dir / "deck.toml") << text;
-  MPI_Barrier(MPI_COMM_WORLD);
-  RunOptions opt;
-  opt.deck = dir / "deck.toml";
-  opt.output_dir = dir / "out";
-  opt.quiet = true;
-  EXPECT_EQ(test::run_deck_on_few_ranks(opt), 0);
-  return dir / "out" / "final.h5";
 }
 
 /// A small disordered packing: FCC melted by hard-sphere collisions, then compressed at
@@ -114,6 +84,7 @@ struct Dense {
   std::int64_t mechanisms = 0, rows = 0, dof = 0;
   std::int64_t k1_negative = 0; ///< eigenvalues below -1e-9 <k_n> of the pinned, stiffened K(1)_uu
   double bulk_k1 = 0, bulk = 0, smallest_kept_singular = 0, largest_dropped_singular = 0;
+  Eigen::MatrixXd tensor_k1, tensor; ///< c_IJ, every strain (Voigt), K(1) and K(1) + K(2)
 };
 
 /// The dense reference, on rank 0 alone: the same per-contact kernels, assembled into full
@@ -122,7 +93,6 @@ struct Dense {
 template <int dim>
 Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j,
                       double threshold) {
-  using TensorD = Eigen::Matrix<double, dim, dim>;
   const FileMeta meta = read_file_meta(MPI_COMM_SELF, file);
   PackingView<dim> v = load_packing<dim>(MPI_COMM_SELF, file, meta, threshold, 1.5);
   const ContactLaw<dim>& law = v.law;
@@ -133,6 +103,10 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
   l.rolling = l.rotations && law.rolling.has_value();
   l.ell = 0.5 * v.diameter;
   l.cell = v.system.cell.length;
+  // K is bordered by every strain (the elastic tensor), G by the diagonal ones only.
+  RigidityLayout<dim> lk = l;
+  lk.shear_strains = true;
+  constexpr int nv = voigt_size<dim>;
   const auto& p = v.particles();
   std::map<GlobalId, int> index;
   for (std::size_t i = 0; i < p.n_owned(); ++i)
@@ -153,7 +127,8 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
     ends.emplace_back(index.at(p.id[c.i]), index.at(p.id[c.j]));
     rows_total += l.rows_per_contact(c.distant);
   }
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(rows_total, nf), K1 = Eigen::MatrixXd::Zero(nf, nf);
+  const int nk = next * g + nv;
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(rows_total, nf), K1 = Eigen::MatrixXd::Zero(nk, nk);
   Eigen::MatrixXd K = K1;
   double kbar = 0;
   int touching = 0, row = 0;
@@ -163,12 +138,12 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
       dofs.push_back(ends[c].first * g + d);
     for (int d = 0; d < g; ++d)
       dofs.push_back(ends[c].second * g + d);
-    for (int a = 0; a < dim; ++a)
+    for (int a = 0; a < nv; ++a)
       dofs.push_back(next * g + a);
     const DynMatrix rows = rigidity_rows(cs[c], l);
-    const DynMatrix k1 = constitutive_block(cs[c], l), k = k1 + geometric_block(cs[c], l);
+    const DynMatrix k1 = constitutive_block(cs[c], lk), k = k1 + geometric_block(cs[c], lk);
     for (std::size_t a = 0; a < dofs.size(); ++a) {
-      for (int r = 0; r < rows.rows(); ++r)
+      for (int r = 0; r < rows.rows() && a < std::size_t(rows.cols()); ++r)
         G(row + r, dofs[a]) += rows(r, a);
       for (std::size_t b = 0; b < dofs.size(); ++b)
         K1(dofs[a], dofs[b]) += k1(a, b), K(dofs[a], dofs[b]) += k(a, b);
@@ -194,13 +169,23 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
   out.mechanisms = nf - rank;
 
   const int nu = next * g;
-  auto bulk_of = [&](const TensorD& schur, bool with_stress) {
-    const TensorD kc = l.cell.asDiagonal() * schur * l.cell.asDiagonal();
-    TensorD c = kc / v.system.cell.volume();
-    if (with_stress)
-      for (int a = 0; a < dim; ++a)
-        c.row(a).array() += v.stress(a, a);
-    return c.sum() / double(dim * dim);
+  // c_IJ = s_I C_IJ s_J / Omega (+ sigma_I in the diagonal columns with K(2)), written out
+  // here from the definitions (docs/stiffness.md) rather than taken from condensation.cpp.
+  auto tensor_of = [&](const Eigen::MatrixXd& schur, bool with_stress) {
+    Eigen::MatrixXd c(nv, nv);
+    for (int i = 0; i < nv; ++i) {
+      const auto [a, b] = voigt_pair<dim>(i);
+      for (int jj = 0; jj < nv; ++jj) {
+        const auto [e, f] = voigt_pair<dim>(jj);
+        c(i, jj) = std::sqrt(l.cell[a] * l.cell[b] * l.cell[e] * l.cell[f]) * schur(i, jj) /
+                       v.system.cell.volume() +
+                   (with_stress && e == f ? 0.5 * (v.stress(a, b) + v.stress(b, a)) : 0.0);
+      }
+    }
+    return c;
+  };
+  auto bulk_of = [&](const Eigen::MatrixXd& c) {
+    return c.topLeftCorner(dim, dim).sum() / double(dim * dim);
   };
   // The same pinned grain and stiffened rolling modes as the distributed code.
   auto pinned = [&](Eigen::MatrixXd m) {
@@ -246,17 +231,19 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
         inv[k] = 1.0 / lam[k];
     const Eigen::MatrixXd pinv =
         es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
-    const TensorD schur = K1.bottomRightCorner(dim, dim) -
-                          K1.bottomLeftCorner(dim, nu) * pinv * K1.topRightCorner(nu, dim);
-    out.bulk_k1 = bulk_of(schur, false);
+    const Eigen::MatrixXd schur = K1.bottomRightCorner(nv, nv) -
+                                  K1.bottomLeftCorner(nv, nu) * pinv * K1.topRightCorner(nu, nv);
+    out.tensor_k1 = tensor_of(schur, false);
+    out.bulk_k1 = bulk_of(out.tensor_k1);
   }
   // K: dense LU of the pinned grain block.
   {
     const Eigen::MatrixXd kp = pinned(K);
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(kp.topLeftCorner(nu, nu));
-    const TensorD schur = kp.bottomRightCorner(dim, dim) -
-                          kp.bottomLeftCorner(dim, nu) * lu.solve(kp.topRightCorner(nu, dim));
-    out.bulk = bulk_of(schur, true);
+    const Eigen::MatrixXd schur = kp.bottomRightCorner(nv, nv) -
+                                  kp.bottomLeftCorner(nv, nu) * lu.solve(kp.topRightCorner(nu, nv));
+    out.tensor = tensor_of(schur, true);
+    out.bulk = bulk_of(out.tensor);
   }
   return out;
 }
@@ -288,6 +275,23 @@ void expect_matches_dense(const std::string& tag, const std::filesystem::path& f
     return;
   EXPECT_NEAR(json["constitutive"]["bulk_modulus"].get<double>(), d.bulk_k1, 1e-8 * d.bulk_k1);
   EXPECT_NEAR(json["bulk_modulus"].get<double>(), d.bulk, 1e-8 * d.bulk);
+  // The whole tensor, K(1) and K(1) + K(2), entry by entry (relative to its largest entry),
+  // and B from the tensor is the bulk modulus.
+  for (const auto& [e, dense] : {std::pair{&json["constitutive"]["elastic_tensor"], &d.tensor_k1},
+                                 std::pair{&json["elastic_tensor"], &d.tensor}}) {
+    const double top = dense->cwiseAbs().maxCoeff();
+    double worst = 0;
+    for (int i = 0; i < dense->rows(); ++i)
+      for (int k = 0; k < dense->cols(); ++k) {
+        const double got = (*e)["c"][i][k].template get<double>();
+        EXPECT_NEAR(got, (*dense)(i, k), 1e-8 * top) << tag << " c(" << i << ", " << k << ")";
+        worst = std::max(worst, std::abs(got - (*dense)(i, k)) / top);
+      }
+    std::printf("[ stiffness ] %s: elastic tensor %s equals the dense one to %.2g of max |c|\n",
+                tag.c_str(), dense == &d.tensor ? "(K)" : "(K1)", worst);
+  }
+  EXPECT_NEAR(json["elastic_tensor"]["bulk_voigt"].get<double>(),
+              json["bulk_modulus"].get<double>(), 1e-12 * d.bulk);
   std::printf("[ stiffness ] %s: B = %.10g (dense %.10g), B1 = %.10g (dense %.10g)\n", tag.c_str(),
               json["bulk_modulus"].get<double>(), d.bulk,
               json["constitutive"]["bulk_modulus"].get<double>(), d.bulk_k1);
@@ -326,13 +330,8 @@ TEST(Stiffness, SmallFrictionlessPackingMatchesDense) {
 }
 
 TEST(Stiffness, HertzFccCrystal) {
-  const auto out = test::scratch_dir("stiffness_fcc_np" + std::to_string(size_of()));
-  RunOptions opt;
-  opt.deck = test::source_dir() / "jobs/decks/ci/fcc_hertz.toml";
-  opt.output_dir = out;
-  opt.quiet = true;
-  ASSERT_EQ(test::run_deck_on_few_ranks(opt), 0);
-  const auto j = run_stiffness(out / "final.h5");
+  const auto file = test::run_ci_deck_file("fcc_hertz", "stiffness_fcc");
+  const auto j = run_stiffness(file);
   // 256 grains, 12 contacts each: N_c = 1536, N_f = 6 x 256 + 3, k = 3 (translations).
   EXPECT_EQ(j["backbone_contacts"], 1536);
   EXPECT_EQ(j["mechanisms"], 3);
@@ -376,7 +375,7 @@ TEST(Stiffness, HertzFccCrystal) {
   // and leaves the user's option as it was.
   const char* option = "-stiffness_mat_mumps_icntl_14";
   ASSERT_EQ(PetscOptionsSetValue(nullptr, option, "0"), 0);
-  const auto tight = run_stiffness(out / "final.h5");
+  const auto tight = run_stiffness(file);
   char value[32] = "";
   PetscBool set = PETSC_FALSE;
   ASSERT_EQ(PetscOptionsGetString(nullptr, nullptr, option, value, sizeof value, &set), 0);
@@ -621,7 +620,15 @@ TEST(Stiffness, OldFilesReplayTheirDeckAsTheirParametersWould) {
   }
   // On 2 ranks the contacts come back in another row order, and the solvers' sums round
   // differently (the smallest eigenvalues vary in their last digits from run to run anyway).
+  // The tensors' symmetry_deviation is a difference of nearly equal entries (1e-15 of them for
+  // the symmetric K(1), 1e-6 with K(2)): it keeps only the last digits, and is compared
+  // relative to the tensor instead (1e-9 of max |c|, as the entries themselves).
   a.erase("smallest_eigenvalues_over_mean_kn"), b.erase("smallest_eigenvalues_over_mean_kn");
+  for (const char* tensor : {"/elastic_tensor", "/constitutive/elastic_tensor"}) {
+    const nlohmann::json::json_pointer p(std::string(tensor) + "/symmetry_deviation");
+    EXPECT_NEAR(a[p].get<double>(), b[p].get<double>(), 1e-9) << tensor;
+    a[p] = b[p] = nullptr;
+  }
   const auto fa = a.flatten(), fb = b.flatten();
   ASSERT_EQ(fa.size(), fb.size());
   for (const auto& [key, x] : fa.items()) {

@@ -21,6 +21,7 @@ struct Case {
   bool cohesion = false; ///< F0 = 50 N (half the Hertz force here), D0 = 1e-5 m
   bool rolling = false;  ///< K_r = 1e-3 N m, reference moment 2e-6 N m
   bool distant = false;  ///< the pair 0.4 D0 apart instead of overlapping by h
+  bool shear = true;     ///< all strain unknowns (the elastic tensor), not only the diagonal
 };
 
 template <int dim> struct Fixture {
@@ -45,6 +46,7 @@ template <int dim> struct Fixture {
     layout.rotations = k.friction;
     layout.rolling = k.rolling;
     layout.ell = 0.5e-3;
+    layout.shear_strains = k.shear;
     for (int a = 0; a < dim; ++a)
       layout.cell[a] = 0.01 + 0.001 * a;
     Vec<dim> dir;
@@ -100,17 +102,37 @@ template <int dim> struct Fixture {
 
   /// Generalised loads ᵀG f of the contact after the motion x.
   DynVector loads(const DynVector& x) const {
-    const int g = layout.grain_dofs(), e = 2 * g;
+    const int g = layout.grain_dofs();
     Vec<dim> u_i = x.template segment<dim>(0), u_j = x.template segment<dim>(g);
     RotVec<dim> th_i = RotVec<dim>::Zero(), th_j = RotVec<dim>::Zero();
     if (layout.rotations) {
       th_i = x.template segment<rot_dim<dim>>(dim) / layout.ell;
       th_j = x.template segment<rot_dim<dim>>(g + dim) / layout.ell;
     }
-    Vec<dim> w = u_j - u_i;
-    for (int a = 0; a < dim; ++a)
-      w[a] -= x[e + a] / layout.cell[a] * r[a];
+    const Vec<dim> w = u_j - u_i - strain(x.tail(layout.strains())) * r;
     return contact_loads(at(r + w, w, th_i, th_j, x), layout);
+  }
+
+  /// The symmetric strain tensor of the scaled unknowns, written out here rather than taken
+  /// from the kernels: diagonal e_a / L_a, shear gamma = e / sqrt(L_a L_b), eps_ab = gamma / 2.
+  Tensor<dim> strain(const DynVector& e) const {
+    Tensor<dim> eps = Tensor<dim>::Zero();
+    for (int a = 0; a < dim; ++a)
+      eps(a, a) = e[a] / layout.cell[a];
+    if (layout.shear_strains) {
+      int k = dim;
+      for (const auto& [a, b] : shear_pairs()) {
+        eps(a, b) = eps(b, a) = 0.5 * e[k++] / std::sqrt(layout.cell[a] * layout.cell[b]);
+      }
+    }
+    return eps;
+  }
+  /// Voigt order of the shear strains: yz, xz, xy in 3D, xy in 2D.
+  static std::vector<std::pair<int, int>> shear_pairs() {
+    if constexpr (dim == 3)
+      return {{1, 2}, {0, 2}, {0, 1}};
+    else
+      return {{0, 1}};
   }
 };
 
@@ -133,11 +155,29 @@ template <int dim> void check_derivative(const Case& kind) {
                                                           << k;
   // The geometric part is resolved: without it the difference is much larger.
   EXPECT_GT((fd - k1).cwiseAbs().maxCoeff(), 1e-3 * scale);
+  // The same block by block for the strain rows and columns, whose entries are smaller than
+  // the grains' by r / L: each is checked against its own scale, and K(2) must be resolved in
+  // each (above 1e-3 of it), so that a wrong or missing K(2) term in a shear row or column
+  // fails here.
+  const int ns = f.layout.strains(), two_g = m - ns;
+  const auto check_block = [&](const char* what, int r0, int nr, int c0, int nc) {
+    const DynMatrix b1 = k1.block(r0, c0, nr, nc), bk = k.block(r0, c0, nr, nc),
+                    bf = fd.block(r0, c0, nr, nc);
+    const double s = std::max(b1.cwiseAbs().maxCoeff(), bk.cwiseAbs().maxCoeff());
+    EXPECT_LT((bf - bk).cwiseAbs().maxCoeff(), 1e-6 * s) << what << "\nFD\n" << bf << "\nK\n" << bk;
+    EXPECT_GT((bf - b1).cwiseAbs().maxCoeff(), 1e-3 * s) << what << ": K(2) not resolved";
+  };
+  check_block("strain rows, grain columns", two_g, ns, 0, two_g);
+  check_block("grain rows, strain columns", 0, two_g, two_g, ns);
+  check_block("strain-strain block", two_g, ns, two_g, ns);
+  if (kind.shear) { // the shear rows and columns alone
+    check_block("shear rows", two_g + dim, ns - dim, 0, m);
+    check_block("shear columns", 0, m, two_g + dim, ns - dim);
+  }
   EXPECT_LT((k1 - k1.transpose()).cwiseAbs().maxCoeff(), 1e-12 * scale);
   if (!friction) {
     // Central forces: the grain block of K(2) is symmetric (-N/r (1 - n nᵀ) couplings). The
     // strain rows are not: Omega Sigma is a load, not the derivative of a potential in e.
-    const int two_g = 2 * f.layout.grain_dofs();
     const DynMatrix k2 = (k - k1).topLeftCorner(two_g, two_g);
     EXPECT_LT((k2 - k2.transpose()).cwiseAbs().maxCoeff(), 1e-9 * scale);
   }
@@ -156,6 +196,12 @@ TEST(RigidityBlocks, Derivative2DFriction) {
 }
 TEST(RigidityBlocks, Derivative2DFrictionless) {
   check_derivative<2>(Case{false});
+}
+TEST(RigidityBlocks, Derivative3DFrictionDiagonalStrainsOnly) {
+  check_derivative<3>(Case{true, false, false, false, false}); // [AR]'s dim strain unknowns
+}
+TEST(RigidityBlocks, Derivative2DFrictionlessDiagonalStrainsOnly) {
+  check_derivative<2>(Case{false, false, false, false, false});
 }
 TEST(RigidityBlocks, Derivative2DCohesiveRolling) {
   check_derivative<2>(Case{true, true, true, false});
@@ -205,6 +251,15 @@ TEST(RigidityBlocks, LoadsAreTransposedRigidityTimesForces) {
             1e-12 * force.norm());
   for (int a = 0; a < 3; ++a)
     EXPECT_NEAR(loads[12 + a], force[a] * f.r[a] / f.layout.cell[a], 1e-12 * force.norm());
+  // Shear strains (yz, xz, xy): the symmetrised force moment (F_a r_b + F_b r_a) / 2 over
+  // sqrt(L_a L_b), which sums to Omega sigma_ab / sqrt(L_a L_b) over the contacts.
+  ASSERT_EQ(loads.size(), 18);
+  int k = 15;
+  for (const auto& [a, b] : Fixture<3>::shear_pairs()) {
+    const double expected = 0.5 * (force[a] * f.r[b] + force[b] * f.r[a]) /
+                            std::sqrt(f.layout.cell[a] * f.layout.cell[b]);
+    EXPECT_NEAR(loads[k++], expected, 1e-12 * force.norm()) << a << b;
+  }
 }
 
 TEST(RigidityBlocks, DivalentRollingModeIsNull) {

@@ -9,8 +9,11 @@
 // u: periodic displacement ũ (m); rho = theta * ell, the rotation times a fixed length ell
 // (m), present only with friction (frictionless grains carry no torque: [AR] eq. 20 drops
 // rotations); e_alpha = eps_alpha * L_alpha, the diagonal strain ([AR]: eps_alpha = -dL/L,
-// positive in compression) times the cell length (m). Every unknown is a length, so every
-// block is in N/m and the conjugate loads are forces: F_u, torque/ell, Omega Sigma_alpha/L_alpha.
+// positive in compression) times the cell length (m). With `shear_strains` the shear strains
+// follow in Voigt order (analysis/elastic_tensor.h): e_I = gamma_I sqrt(L_a L_b), gamma_I =
+// 2 eps_ab the engineering shear strain, again positive when it shortens the branch vectors
+// (eps.r enters the approach delta_u). Every unknown is a length, so every block is in N/m
+// and the conjugate loads are forces: F_u, torque/ell, Omega Sigma_I / s_I (s_I the scale).
 //
 // Sign conventions ([AR] eq. 10 with the dynamics' branch vectors, docs/contact-law.md):
 // delta_u = ũ_i + θ_i x b_i - ũ_j - θ_j x b_j + eps.r_ij is the approach of i's contact point
@@ -22,7 +25,9 @@
 // with the negative stiffness dN^a/dh = -F0/D0. With cohesion N is the static normal force
 // N^e + N^a (N^a = -F0 in contact), the force the geometry turns in K(2).
 #include <Eigen/Core>
+#include <cmath>
 
+#include "granpack/analysis/elastic_tensor.h"
 #include "granpack/contact/contact_law.h"
 #include "granpack/core/vec.h"
 
@@ -44,9 +49,18 @@ template <int dim> struct RigidityLayout {
   bool rolling = false;             ///< rolling-resistance rows ([GRC] eq. 21; 2D, with rotations)
   double ell = 1;                   ///< rotation length scale (m): rho = theta * ell
   Vec<dim> cell = Vec<dim>::Ones(); ///< L_alpha: e_alpha = eps_alpha L_alpha
+  /// Strain unknowns: the dim diagonal ones of [AR] eq. (9) (false), or all voigt_size<dim>
+  /// of a periodic cell, diagonal first (true: the elastic tensor).
+  bool shear_strains = false;
 
   int grain_dofs() const { return rotations ? dim + rot_dim<dim> : dim; }
-  int local_size() const { return 2 * grain_dofs() + dim; }
+  int strains() const { return shear_strains ? voigt_size<dim> : dim; }
+  /// s_I with e_I = gamma_I s_I: L_a on the diagonal, sqrt(L_a L_b) for the shear (a, b).
+  double strain_scale(int i) const {
+    const auto [a, b] = voigt_pair<dim>(i);
+    return a == b ? cell[a] : std::sqrt(cell[a] * cell[b]);
+  }
+  int local_size() const { return 2 * grain_dofs() + strains(); }
   /// Rows of G per contact: dim with friction (normal and tangential) plus one with rolling
   /// resistance, 1 without friction; a distant pair has its normal row only.
   int rows_per_contact(bool distant = false) const {
@@ -95,7 +109,8 @@ template <int dim>
 DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 
 /// Generalised loads of the contact on the local unknowns, (ᵀG f) restricted to the
-/// contact: (F, b_i x F / ell, -F, -b_j x F / ell, F_alpha r_alpha / L_alpha).
+/// contact: (F, b_i x F / ell, -F, -b_j x F / ell, F_alpha r_alpha / L_alpha, then with shear
+/// strains (F_a r_b + F_b r_a) / (2 s_I)): the strain entries sum to Omega sigma_I / s_I.
 template <int dim>
 DynVector contact_loads(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 

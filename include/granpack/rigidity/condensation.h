@@ -1,11 +1,14 @@
 #pragma once
 // Elimination of the grain unknowns onto the strain coordinates: the Schur complement
-//     C = K_ee - K_eu K_uu^{-1} K_ue      (dim x dim, in the scaled unknowns e = eps L)
-// with one factorisation of K_uu and dim solves. Then the macroscopic moduli for diagonal
-// strains: with Kc = L C L (physical, Delta(Omega Sigma) = Kc eps),
-//     c_ab = Kc_ab / Omega [+ Sigma_a, the change of Omega at fixed Sigma, when K(2) is in]
-//     B = sum_ab c_ab / dim^2,  G_diag = (mean c_aa - mean c_{a!=b}) / 2.
-// docs/stiffness.md derives both. Collective.
+//     C = K_ee - K_eu K_uu^{-1} K_ue      (nv x nv, every strain in Voigt order, in the
+//                                         scaled unknowns e_I = gamma_I s_I)
+// with one factorisation of K_uu and nv solves. Then the macroscopic stiffness: with
+// Kc = S C S (physical, Delta(Omega sigma_I) = Kc_IJ gamma_J, S = diag(s_I)),
+//     c_IJ = Kc_IJ / Omega [+ sigma_I for a diagonal J, the change of Omega at fixed sigma,
+//            when K(2) is in],
+// its affine part (K_ee alone, the grains following the strain) and, from the diagonal
+// block, [AR]'s B = sum_ab c_ab / dim^2 and G_diag = (mean c_aa - mean c_{a!=b}) / 2.
+// docs/stiffness.md derives them. Collective.
 #include <functional>
 
 #include "granpack/rigidity/direct_solver.h"
@@ -14,19 +17,24 @@
 namespace granpack {
 
 template <int dim> struct Moduli {
-  Tensor<dim> schur = Tensor<dim>::Zero();     ///< C, scaled (N/m)
-  Tensor<dim> stiffness = Tensor<dim>::Zero(); ///< c_ab (Pa in 3D)
-  double bulk = 0;                             ///< B
-  double shear_diag = 0;                       ///< G_diag
-  double seconds = 0;                          ///< the dim solves and dot products
+  VoigtMatrix<dim> schur = VoigtMatrix<dim>::Zero();  ///< C, scaled (N/m), every strain
+  VoigtMatrix<dim> tensor = VoigtMatrix<dim>::Zero(); ///< c_IJ (Pa in 3D, N/m in 2D)
+  VoigtMatrix<dim> affine = VoigtMatrix<dim>::Zero(); ///< c_IJ of K_ee alone (affine motion)
+  Tensor<dim> stiffness = Tensor<dim>::Zero();        ///< c_ab, the diagonal strains' block
+  double bulk = 0;                                    ///< B
+  double shear_diag = 0;                              ///< G_diag
+  double seconds = 0;                                 ///< the nv solves and dot products
+
+  /// The diagonal strains' Schur complement ([AR]'s dim strain unknowns).
+  Tensor<dim> diagonal_schur() const { return schur.template topLeftCorner<dim, dim>(); }
 };
 
-/// `stress`: the stress the Omega-change term uses (pass zero for K(1) alone).
+/// `stress`: sigma_I, the stress the Omega-change term uses (pass zero for K(1) alone).
 /// `solve(rhs, x)`: x = K_uu^{-1} rhs (a factorisation or a preconditioned Krylov solver).
 using GrainSolve = std::function<void(::Vec, ::Vec)>;
 
 template <int dim>
-Moduli<dim> condense(const BorderedMatrix<dim>& b, const GrainSolve& solve, const Vec<dim>& cell,
-                     double volume, const Vec<dim>& stress);
+Moduli<dim> condense(const BorderedMatrix<dim>& b, const GrainSolve& solve,
+                     const RigidityLayout<dim>& layout, double volume, const VoigtVec<dim>& stress);
 
 } // namespace granpack

@@ -5,12 +5,15 @@
 //
 // The strain coordinates couple to every grain, so the bordered stiffness matrix
 //     [ K_uu  K_ue ]   grains: sparse, block size g = dim(dim+1)/2 (dim without friction)
-//     [ K_eu  K_ee ]   strains: dim dense rows and columns
-// is kept in three parts: K_uu a PETSc AIJ matrix with block size g, the border as dim
+//     [ K_eu  K_ee ]   strains: nv = dim(dim+1)/2 dense rows and columns (Voigt order)
+// is kept in three parts: K_uu a PETSc AIJ matrix with block size g, the border as nv
 // distributed vectors (columns K_ue and rows K_eu, laid out like K_uu's rows), K_ee a small
-// replicated dim x dim matrix. The strain coordinates are then eliminated by a Schur
+// replicated nv x nv matrix. The strain coordinates are then eliminated by a Schur
 // complement (rigidity/condensation.h): dense rows never enter the sparse factorisation.
-// G keeps its dim strain columns (its rows are sparse either way). docs/stiffness.md.
+// The border has every strain of the periodic cell (diagonal first), for the elastic tensor;
+// G keeps [AR]'s dim diagonal strain columns (eq. 9), on which the mechanisms and H are
+// counted — the diagonal strains' Schur complement is the leading dim x dim block of the
+// full one. docs/stiffness.md.
 #include <array>
 #include <vector>
 
@@ -29,21 +32,21 @@ struct DivalentContact {
 
 /// The stiffness matrix's grain block and its border, for one of K(1) or K(1) + K(2).
 template <int dim> struct BorderedMatrix {
-  OwnedMat uu;                  ///< K_uu (square, block size g)
-  std::array<OwnedVec, dim> ue; ///< columns K_{u, e_alpha}
-  std::array<OwnedVec, dim> eu; ///< rows K_{e_alpha, u}, stored as vectors
-  Tensor<dim> ee = Tensor<dim>::Zero();
+  OwnedMat uu;                              ///< K_uu (square, block size g)
+  std::array<OwnedVec, voigt_size<dim>> ue; ///< columns K_{u, e_I}, Voigt order
+  std::array<OwnedVec, voigt_size<dim>> eu; ///< rows K_{e_I, u}, stored as vectors
+  VoigtMatrix<dim> ee = VoigtMatrix<dim>::Zero();
 };
 
 template <int dim> struct StiffnessSystem {
   MPI_Comm comm = MPI_COMM_WORLD;
-  RigidityLayout<dim> layout;
+  RigidityLayout<dim> layout; ///< with shear_strains: the border's unknowns
   GrainNumbering numbering;
   std::int64_t contacts = 0; ///< N_c^*: backbone contacts (distant pairs included)
   std::int64_t distant = 0;  ///< N_d: distant attractions among them ([GRC] eq. 19)
   std::int64_t rows = 0;     ///< rows of G: M of [GRC] App. A
   double mean_kn = 0;        ///< <k_n> over the contacts in touch (N/m): the matrices' scale
-  OwnedMat G;                ///< rows x N_f, strain columns last
+  OwnedMat G;                ///< rows x N_f, the dim diagonal strain columns last
   OwnedVec f;                ///< contact forces in G's row space
   BorderedMatrix<dim> k1;    ///< constitutive K(1), eq. (18): symmetric
   BorderedMatrix<dim> k;     ///< K(1) + K(2), App. B: unsymmetric with friction
