@@ -158,7 +158,11 @@ class Packing:
                     if unit is not None:
                         self.units[f"{group}/{k}"] = _text(unit)
         # /network (configurations written by granpack run: docs/hdf5-schema.md): {} if absent.
-        self.network = {k: v[()] for k, v in f["network"].items()} if "network" in f else {}
+        self.network = {}
+        for k, v in (f["network"].items() if "network" in f else ()):
+            self.network[k] = v[()]
+            if "unit" in v.attrs:
+                self.units["network/" + k] = _text(v.attrs["unit"])
         self.raw_parameters = dict(f["parameters"].attrs) if "parameters" in f else None
         self.parameters = ({k: _attr_value(v) for k, v in self.raw_parameters.items()}
                            if self.raw_parameters is not None else None)

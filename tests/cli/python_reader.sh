@@ -35,6 +35,7 @@ phi = 0.45
 kind = "compress"
 pressure = 1.0e4
 inertia_max = 1.0e-2
+quench_interval = 20000
 TOML
 out="$scratch/run"
 check_exit "2-rank run" 0 "$scratch/run.txt" granpack_on 2 run "$scratch/small.toml" -o "$out" \
@@ -94,6 +95,29 @@ def net_of(pk, f):
 flipped = net_of(p, p.contact_force - 2 * p.contacts["tangential_force"]) / (p.diameter ** 2 * P)
 check(f"with T on `first` instead, no balance ({flipped[~r].max():.3g} a^2 P): the check can fail",
       flipped[~r].max() > 1e-2)
+# /network (written by the engine from its own ghost layer) against the reader's recomputation.
+nw = p.network
+check("final.h5 has /network with nc lines, 2 nc points, n grains",
+      nw.get("line", np.zeros((0, 2))).shape == (p.nc, 2) and nw["point"].shape == (2 * p.nc, 3)
+      and nw["contacts"].shape == (p.n,) and nw["net_force"].shape == (p.n, 3))
+if nw:
+    start, end = nw["point"][0::2], nw["point"][1::2]
+    check("segments start at the first grain's centre (folded into the cell)",
+          np.allclose(start, np.mod(p.grains["scaled_position"][p.i], 1.0) * p.cell_length, atol=1e-12))
+    check("segments are the branch vectors (drawn to the image, never across the cell)",
+          np.allclose(end - start, p.branch, atol=1e-12))
+    out_of_cell = ((end < 0) | (end >= p.cell_length)).any(axis=1)
+    print(f"{out_of_cell.sum()} of {p.nc} segments end at an image outside the cell")
+    check("some contacts cross the boundary (the image case is exercised)", out_of_cell.sum() > 0)
+    check("lines join rows 2k, 2k+1", np.array_equal(nw["line"], np.arange(2 * p.nc).reshape(-1, 2)))
+    fscale = np.abs(p.total_normal_force).max()
+    check("normal_force = N^e + N^a", np.allclose(nw["normal_force"], p.total_normal_force, rtol=0, atol=1e-12 * fscale))
+    check("tangential_force = |T|", np.allclose(nw["tangential_force"], p.tangential_magnitude, rtol=0, atol=1e-12 * fscale))
+    check("kind: compressive where N > 0", np.array_equal(nw["kind"] == 0, p.total_normal_force > 0))
+    check("per-grain contacts across ranks", np.array_equal(nw["contacts"], p.coordination()))
+    check("per-grain carrying contacts", np.array_equal(nw["carrying_contacts"], p.coordination(carrying_only=True)))
+    check("per-grain net force", np.allclose(nw["net_force"], p.net_force(), rtol=0, atol=1e-9 * fscale))
+    check("units of /network", p.units.get("network/point") == "m" and p.units.get("network/net_force") == "N")
 t = rep.stage_table()
 check("stage table: names, phi and pressure arrays", list(t["kind"]) == ["random", "compress"]
       and abs(t["phi"][-1] - p.phi) < 1e-9 and t["pressure"].shape == (2,) and rep.units["pressure"] == "Pa")

@@ -1,0 +1,148 @@
+"""Opens a granpack file's XDMF sidecar in ParaView (pvbatch), says what it holds, and renders
+the force network: grains as spheres (2D: disks) scaled by their radius, contacts as tubes whose
+width and colour follow the normal force (docs/visualisation.md).
+
+  xvfb-run -a pvbatch jobs/tools/pv_packing.py out/main/final.xdmf --png chains.png
+  xvfb-run -a pvbatch jobs/tools/pv_packing.py FILE.xdmf --summary summary.json
+
+--summary writes, per grid of the file ("particles", "contacts"), its numbers of points and
+cells and its point and cell arrays (name: number of components, range of the first), as
+ParaView read them: what tests/cli/paraview.sh compares with the HDF5 file. --png renders
+offscreen (Debian's ParaView draws through X: run it under xvfb-run). Bad input: exit 2 with a
+message naming the file.
+"""
+import argparse
+import json
+import os
+import sys
+
+from paraview import servermanager
+from paraview.simple import (ExtractBlock, GetActiveViewOrCreate, GetColorTransferFunction,
+                             Render, ResetCamera, SaveScreenshot, Show, Threshold, Tube,
+                             XDMFReader, CellDatatoPointData, ExtractSurface)
+
+PROG = "pv_packing.py"
+
+
+def die(msg):
+    print(f"{PROG}: error: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def blocks(data, name="particles"):
+    """(name, dataset) of each leaf of a fetched composite dataset (multiblock, maybe of multipiece
+    blocks), or the dataset itself."""
+    if data.IsA("vtkMultiPieceDataSet"):
+        pieces = [data.GetPiece(k) for k in range(data.GetNumberOfPieces())]
+        return [(name, p) for p in pieces if p is not None][:1]
+    if not data.IsA("vtkMultiBlockDataSet"):
+        return [(name, data)]
+    out = []
+    for k in range(data.GetNumberOfBlocks()):
+        meta = data.GetMetaData(k)
+        label = meta.Get(data.NAME()) if meta is not None and meta.Has(data.NAME()) else str(k)
+        block = data.GetBlock(k)
+        if block is not None:
+            out.extend(blocks(block, label))
+    return out
+
+
+def arrays(fields):
+    out = {}
+    for k in range(fields.GetNumberOfArrays()):
+        a = fields.GetArray(k)
+        if a is not None:
+            out[a.GetName()] = {"components": a.GetNumberOfComponents(),
+                                "range": list(a.GetRange(0)) if a.GetNumberOfTuples() else None}
+    return out
+
+
+def summary(reader):
+    data = servermanager.Fetch(reader)
+    return {name: {"points": b.GetNumberOfPoints(), "cells": b.GetNumberOfCells(),
+                   "point_arrays": arrays(b.GetPointData()), "cell_arrays": arrays(b.GetCellData()),
+                   "bounds": list(b.GetBounds())}
+            for name, b in blocks(data)}
+
+
+def render(reader, info, png, size, dimension):
+    view = GetActiveViewOrCreate("RenderView")
+    view.ViewSize = size
+    view.OrientationAxesVisibility = 0
+    view.Background = [1, 1, 1]
+    if hasattr(view, "UseColorPaletteForBackground"):
+        view.UseColorPaletteForBackground = 0
+    grains = ExtractBlock(Input=reader, Selectors=["/Root/particles"])
+    g = Show(grains, view)
+    g.SetRepresentationType("Point Gaussian")
+    g.ShaderPreset = "Sphere" if dimension == 3 else "Plain circle"
+    g.ScaleByArray = 1
+    g.SetScaleArray = ["POINTS", "radius"]
+    if hasattr(g, "UseScaleFunction"):
+        g.UseScaleFunction = 0
+    g.GaussianRadius = 1.0
+    g.ColorArrayName = [None, ""]
+    g.AmbientColor = g.DiffuseColor = [0.82, 0.82, 0.82]
+    g.Opacity = 1.0 if dimension == 2 else 0.25
+    if "contacts" in info and info["contacts"]["cells"] > 0:
+        contacts = ExtractBlock(Input=reader, Selectors=["/Root/contacts"])
+        fmax = info["contacts"]["cell_arrays"]["normal_force"]["range"][1]
+        radius = info["particles"]["point_arrays"]["radius"]["range"][1]
+        compressive = Threshold(Input=contacts, Scalars=["CELLS", "normal_force"])
+        if hasattr(compressive, "LowerThreshold"):
+            compressive.LowerThreshold, compressive.UpperThreshold = 0.0, max(fmax, 1e-300)
+            if hasattr(compressive, "ThresholdMethod"):
+                compressive.ThresholdMethod = "Between"
+        else:
+            compressive.ThresholdRange = [0.0, max(fmax, 1e-300)]
+        # Tube needs polygonal data: the lines of the unstructured grid, with point data (each
+        # contact has its own two points, so the point value is the contact's force).
+        points = ExtractSurface(Input=CellDatatoPointData(Input=compressive))
+        tubes = Tube(Input=points, Scalars=["POINTS", "normal_force"], VaryRadius="By Scalar",
+                     Radius=0.06 * radius, RadiusFactor=8.0, NumberofSides=8)
+        t = Show(tubes, view)
+        t.ColorArrayName = ["POINTS", "normal_force"]
+        lut = GetColorTransferFunction("normal_force")
+        lut.ApplyPreset("Inferno (matplotlib)", True)
+        lut.RescaleTransferFunction(0.0, max(fmax, 1e-300))
+        lut.InvertTransferFunction()
+        bar = t.SetScalarBarVisibility(view, True) if hasattr(t, "SetScalarBarVisibility") else None
+        del bar
+    if dimension == 2:
+        view.InteractionMode = "2D"
+    ResetCamera(view)
+    if dimension == 3:
+        cam = view.GetActiveCamera()
+        cam.Elevation(25)
+        cam.Azimuth(30)
+        ResetCamera(view)
+    Render(view)
+    SaveScreenshot(png, view, ImageResolution=size)
+
+
+def main():
+    ap = argparse.ArgumentParser(prog=PROG, description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("xdmf", help="the XDMF sidecar of a granpack file (FILE.xdmf)")
+    ap.add_argument("--summary", help="write what ParaView read (JSON) here")
+    ap.add_argument("--png", help="render the force network into this PNG")
+    ap.add_argument("--size", type=int, nargs=2, default=[800, 800], metavar=("W", "H"))
+    args = ap.parse_args()
+    if not os.path.isfile(args.xdmf):
+        die(f"{args.xdmf}: no such file")
+    reader = XDMFReader(FileNames=[args.xdmf])
+    reader.UpdatePipeline()
+    info = summary(reader)
+    if "particles" not in info or info["particles"]["points"] == 0:
+        die(f"{args.xdmf}: ParaView read no grains from it")
+    dimension = 2 if "XY\"" in open(args.xdmf).read() else 3
+    if args.summary:
+        with open(args.summary, "w") as f:
+            json.dump({"file": args.xdmf, "dimension": dimension, "grids": info}, f, indent=1)
+    if args.png:
+        render(reader, info, args.png, args.size, dimension)
+        print(args.png)
+
+
+if __name__ == "__main__":
+    main()
