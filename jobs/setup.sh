@@ -28,7 +28,7 @@ packages=(
 # Debian's pvbatch renders through X, hence a virtual X server. About 3 minutes to install
 # (140 MB of packages, 800 MB on disk); the test is skipped where they are absent.
 if [ "$mode" = test ]; then
-  packages+=(paraview python3-paraview xvfb xauth)
+  packages+=(paraview python3-paraview xvfb)
 fi
 missing=()
 for p in "${packages[@]}"; do

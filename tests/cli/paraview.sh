@@ -7,13 +7,13 @@
 # carrying_contacts, net_force; contacts nc cells of 2 of 2 nc points with normal_force,
 # tangential_force, kind, the force range that of the file); the rendered force network is a
 # PNG of 300 x 300 pixels or more with more than one colour. A missing file is refused
-# (exit 2, naming it). Skipped (exit 77) where pvbatch or xvfb-run is absent: `bash
-# jobs/setup.sh test` installs paraview, python3-paraview and xvfb (Debian's ParaView renders
-# through X only, so pvbatch runs under xvfb-run).
+# (exit 2, naming it). Skipped (exit 77) where pvbatch or Xvfb is absent: `bash jobs/setup.sh
+# test` installs paraview, python3-paraview and xvfb (Debian's ParaView renders through X only,
+# so pvbatch runs on a virtual X server: jobs/tools/with_xvfb.sh).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
-for tool in pvbatch xvfb-run; do
+for tool in pvbatch Xvfb; do
   if ! command -v "$tool" > /dev/null; then
     echo "SKIPPED: $tool not found (apt-get install paraview python3-paraview xvfb; bash jobs/setup.sh test does)"
     exit 77
@@ -22,7 +22,7 @@ done
 cli_scratch
 export MPLCONFIGDIR="$scratch/mpl"
 pv="$GRANPACK_SOURCE_DIR/jobs/tools/pv_packing.py"
-pvrun() { xvfb-run -a -s "-screen 0 1024x768x24" pvbatch "$@"; }
+pvrun() { bash "$GRANPACK_SOURCE_DIR/jobs/tools/with_xvfb.sh" pvbatch "$@"; }
 
 # A 2D cohesive packing (compressive and tensile contacts) rewritten by a 2-rank run: a deck
 # with the committed file's own [sample] and [material] and one `read` stage.
