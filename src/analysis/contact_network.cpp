@@ -1,9 +1,17 @@
 #include "granpack/analysis/contact_network.h"
 
 #include <cmath>
+#include <numbers>
 #include <unordered_map>
 
 namespace granpack {
+
+namespace {
+/// Volume of a grain of radius r: a disk per unit thickness in 2D, a sphere in 3D.
+template <int dim> double grain_volume(double r) {
+  return dim == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
+}
+} // namespace
 
 template <int dim>
 NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<dim>& p,
@@ -17,6 +25,7 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
   f.kind.assign(nc, static_cast<std::int64_t>(NetworkKind::kUnstressed));
   f.contacts.assign(n, 0.0);
   f.carrying_contacts.assign(n, 0.0);
+  f.mean_stress.assign(n, 0.0);
   for (auto& c : f.net_force)
     c.assign(n, 0.0);
   // Local index of each id: the owned copy first (emplace keeps it), else any ghost image.
@@ -60,6 +69,9 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
       f.net_force[c][j] += on_second[c];
       f.net_force[c][i] -= on_second[c];
     }
+    const double half_virial = 0.5 * on_second.dot(r); // each grain's share of f.r_12
+    f.mean_stress[i] += half_virial / (dim * grain_volume<dim>(p.radius[i]));
+    f.mean_stress[j] += half_virial / (dim * grain_volume<dim>(p.radius[j]));
   }
   return f;
 }

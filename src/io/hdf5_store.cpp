@@ -808,6 +808,7 @@ void write_network(const FileContext& ctx, hid_t file, hid_t dxpl, const Network
   rows("kind", f.kind, cs, 0, "1");
   rows("contacts", f.contacts, ps, 0, "1");
   rows("carrying_contacts", f.carrying_contacts, ps, 0, "1");
+  rows("mean_stress", f.mean_stress, ps, 0, "Pa");
   std::vector<double> net;
   net.reserve(static_cast<std::size_t>(ps.count) * dim);
   for (std::int64_t i = 0; i < ps.count; ++i)

@@ -117,6 +117,14 @@ if nw:
     check("per-grain contacts across ranks", np.array_equal(nw["contacts"], p.coordination()))
     check("per-grain carrying contacts", np.array_equal(nw["carrying_contacts"], p.coordination(carrying_only=True)))
     check("per-grain net force", np.allclose(nw["net_force"], p.net_force(), rtol=0, atol=1e-9 * fscale))
+    vg = 4.0 / 3.0 * np.pi * p.radius ** 3
+    check(f"sum of V_g mean_stress_g / V = P ({(vg * nw['mean_stress']).sum() / p.volume:.8g} Pa)",
+          abs((vg * nw["mean_stress"]).sum() / p.volume - p.pressure) < 1e-9 * P)
+    share = np.zeros(p.n)
+    w = 0.5 * (p.contact_force * p.branch).sum(axis=1)
+    np.add.at(share, p.i, w)
+    np.add.at(share, p.j, w)
+    check("per-grain mean stress", np.allclose(nw["mean_stress"], share / (3 * vg), rtol=1e-12, atol=1e-9 * P))
     check("units of /network", p.units.get("network/point") == "m" and p.units.get("network/net_force") == "N")
 t = rep.stage_table()
 check("stage table: names, phi and pressure arrays", list(t["kind"]) == ["random", "compress"]

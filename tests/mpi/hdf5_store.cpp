@@ -638,6 +638,7 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
   for (std::size_t i = 0; i < c.particles.n_owned(); ++i) {
     f.contacts.push_back(double(c.particles.id[i]));
     f.carrying_contacts.push_back(0.5 * double(c.particles.id[i]));
+    f.mean_stress.push_back(-double(c.particles.id[i]));
     for (int a = 0; a < dim; ++a)
       f.net_force[a].push_back(double(c.particles.id[i]) + a);
   }

@@ -38,6 +38,10 @@ template <int dim> struct NetworkFields {
   std::vector<double> contacts;                   ///< contacts (distant pairs not counted)
   std::vector<double> carrying_contacts;          ///< contacts with N^e > 0
   std::array<std::vector<double>, dim> net_force; ///< sum of the static contact forces (N)
+  /// The grain's mean static stress (Pa): tr of its share of the virial over its volume,
+  /// (1/(dim V_g)) sum over its contacts of f.r_12 / 2 (V_g = pi R^2 per unit thickness in 2D,
+  /// 4 pi R^3 / 3 in 3D); sum_g V_g mean_stress_g / V is the static pressure.
+  std::vector<double> mean_stress;
   std::int64_t missing = 0; ///< contacts whose grains are not both local (nothing computed)
 };
 
