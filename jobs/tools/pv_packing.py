@@ -5,9 +5,10 @@ width and colour follow the normal force (docs/visualisation.md).
   bash jobs/tools/with_xvfb.sh pvbatch jobs/tools/pv_packing.py out/main/final.xdmf --png chains.png
   bash jobs/tools/with_xvfb.sh pvbatch jobs/tools/pv_packing.py FILE.xdmf --summary summary.json
 
---summary writes, per grid of the file ("particles", "contacts"), its numbers of points and
-cells and its point and cell arrays (name: number of components, range of the first), as
-ParaView read them: what tests/cli/paraview.sh compares with the HDF5 file. --png renders
+--summary writes, per grid of the file ("particles", "contacts"; of the first step of a time
+series, jobs/tools/xdmf_series.py), its numbers of points and cells and its point and cell
+arrays (name: number of components, range of the first), and the time steps, as ParaView read
+them: what tests/cli/paraview.sh compares with the HDF5 file. --png renders
 offscreen (Debian's ParaView draws through X: run it on a virtual X server, with_xvfb.sh). Bad input: exit 2 with a
 message naming the file.
 """
@@ -179,7 +180,8 @@ def main():
     dimension = 2 if "XY\"" in open(args.xdmf).read() else 3
     if args.summary:
         with open(args.summary, "w") as f:
-            json.dump({"file": args.xdmf, "dimension": dimension, "grids": info}, f, indent=1)
+            json.dump({"file": args.xdmf, "dimension": dimension, "grids": info,
+                       "times": [float(t) for t in reader.TimestepValues]}, f, indent=1)
     if args.png:
         info["mean_compressive_force"] = mean_compressive_force(reader)
         render(reader, info, args.png, args.size, dimension, args.strong, args.slab)

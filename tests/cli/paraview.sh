@@ -6,7 +6,9 @@
 # final.h5 (grains n points and n cells with radius, id, velocity, angular_velocity, contacts,
 # carrying_contacts, net_force, mean_stress; contacts nc cells of 2 of 2 nc points with normal_force,
 # tangential_force, kind, the force range that of the file); the rendered force network is a
-# PNG of 300 x 300 pixels or more with more than one colour. A missing file is refused
+# PNG of 300 x 300 pixels or more with more than one colour; jobs/tools/xdmf_series.py makes
+# a time series of the run's two files, which ParaView reads as 2 steps at their times. A
+# missing file is refused
 # (exit 2, naming it). Skipped (exit 77) where pvbatch or Xvfb is absent: `bash jobs/setup.sh
 # test` installs paraview, python3-paraview and xvfb (Debian's ParaView renders through X only,
 # so pvbatch runs on a virtual X server: jobs/tools/with_xvfb.sh).
@@ -32,7 +34,9 @@ import os, sys
 sys.path.insert(0, os.environ["GRANPACK_SOURCE_DIR"] + "/jobs/tools")
 import granpack_io as gio
 deck = gio.read_packing(sys.argv[1]).deck.split("[[stage]]")[0]
-open(sys.argv[2], "w").write(deck + f'\n[[stage]]\nkind = "read"\nfile = "{sys.argv[1]}"\n')
+open(sys.argv[2], "w").write(deck + f'\n[[stage]]\nkind = "read"\nfile = "{sys.argv[1]}"\n'
+                             '[[stage]]\nkind = "write"\nfile = "before.h5"\n'
+                             '[[stage]]\nkind = "compress"\npressure = 20.0\nmax_steps = 400\n')
 PY
 out="$scratch/run"
 check_exit "2-rank run reading a 2D cohesive packing" 0 "$scratch/run.txt" \
@@ -85,6 +89,26 @@ colours = len(np.unique(img.reshape(-1, 3), axis=0))
 check(f"the picture is not blank ({colours} colours)", colours > 20)
 PY
 checks_from "ParaView's view of the file" "$scratch/py.txt" $?
+
+# A time series of the two files the run wrote (before.h5 at the read, final.h5 400 steps on).
+check_exit "xdmf_series.py" 0 "$scratch/series.txt" /usr/bin/python3 \
+  "$GRANPACK_SOURCE_DIR/jobs/tools/xdmf_series.py" "$out/series.xdmf" "$out/final.h5" "$out/before.h5"
+check_exit "pvbatch reads the series" 0 "$scratch/pvs.txt" \
+  pvrun "$pv" "$out/series.xdmf" --summary "$scratch/series.json"
+check_python "the series: 2 steps at the files' times, grains and contacts in each" "$scratch/ser.txt" \
+  "$out" "$scratch/series.json" <<'PY'
+import json, os, sys
+sys.path.insert(0, os.environ["GRANPACK_SOURCE_DIR"] + "/jobs/tools")
+import granpack_io as gio
+out, s = sys.argv[1], json.load(open(sys.argv[2]))
+a, b = gio.read_packing(f"{out}/before.h5"), gio.read_packing(f"{out}/final.h5")
+assert b.time > a.time, (a.time, b.time)
+assert s["times"] == [a.time, b.time], (s["times"], a.time, b.time)
+g = s["grids"]
+assert g["particles"]["points"] == a.n and g["contacts"]["cells"] == a.nc, g
+PY
+check_refused "a series of one file twice" 2 "same time" "$scratch/twice.txt" /usr/bin/python3 \
+  "$GRANPACK_SOURCE_DIR/jobs/tools/xdmf_series.py" "$out/twice.xdmf" "$out/final.h5" "$out/final.h5"
 
 check_refused "a missing file" 2 "nope.xdmf: no such file" "$scratch/bad.txt" pvrun "$pv" "$scratch/nope.xdmf"
 
