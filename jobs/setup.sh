@@ -24,6 +24,12 @@ packages=(
   python3-numpy python3-h5py python3-matplotlib
   clang-format   # tests/cli/format.sh checks the layout of the C++ files
 )
+# The test suite also opens files in ParaView (tests/cli/paraview.sh, docs/visualisation.md):
+# Debian's pvbatch renders through X, hence a virtual X server. About 3 minutes to install
+# (140 MB of packages, 800 MB on disk); the test is skipped where they are absent.
+if [ "$mode" = test ]; then
+  packages+=(paraview python3-paraview xvfb)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

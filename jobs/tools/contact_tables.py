@@ -8,8 +8,9 @@ N^(2), N^(3) in units of P a^2 (docs/analysis.md, "strong/weak split").
 Usage: /usr/bin/python3 jobs/tools/contact_tables.py STATE=analysis.json ...  (STATE: B, C, D)
 Prints Markdown tables to paste into docs/reproduction.md.
 """
-import json
-import sys
+import argparse
+
+import granpack_io as gio
 
 # [AR] table V, treatment I: x_0 ... x_10 in %.
 TABLE_V = {
@@ -60,14 +61,23 @@ def table_vi(states):
             print(f"| {state}, [AR] | " + " | ".join(fmt(v, 3) for v in TABLE_VI[state]) + " |")
 
 
+def state_file(arg):
+    """STATE=analysis.json -> (STATE, the analysis as a dict)."""
+    if "=" not in arg:
+        raise argparse.ArgumentTypeError(f"'{arg}' is not STATE=analysis.json")
+    state, path = arg.split("=", 1)
+    try:
+        return state, gio.read_analysis(path)
+    except gio.GranpackFileError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
 def main():
-    if len(sys.argv) < 2 or any("=" not in a for a in sys.argv[1:]):
-        sys.exit("usage: contact_tables.py STATE=analysis.json ...")
-    states = []
-    for arg in sys.argv[1:]:
-        state, path = arg.split("=", 1)
-        with open(path) as f:
-            states.append((state, json.load(f)))
+    ap = argparse.ArgumentParser(prog="contact_tables.py", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("states", nargs="+", type=state_file, metavar="STATE=analysis.json",
+                    help="a state's label (B, C, D: compared with [AR]) and its analysis JSON")
+    states = ap.parse_args().states
     print("Table V (treatment I)\n")
     table_v(states)
     print("\nTable VI\n")

@@ -37,8 +37,9 @@ import json
 import math
 import sys
 
-import h5py
 import numpy as np
+
+import granpack_io as gio
 
 A = 1.0e-3  # disk diameter a (m); every length below is in units of a unless it says m
 DENSITY = 2500.0
@@ -314,42 +315,10 @@ def write_packing(path, x, L, seed, command):
     s = (x / L) % 1.0
     r = np.full(n, A / 2)
     mass = DENSITY * math.pi * r ** 2  # per metre of thickness
-    with h5py.File(path, "w") as f:
-        f.attrs["format"] = "granpack"
-        f.attrs["format_version"] = np.int32(1)
-        f.attrs["granpack_version"] = "known_structures.py"
-        f.attrs["dimension"] = np.int32(2)
-        f.attrs["n_particles"] = np.int64(n)
-        f.attrs["n_contacts"] = np.int64(0)
-        f.attrs["time"] = 0.0
-        f.attrs["step"] = np.int64(0)
-        f.attrs["stage_index"] = np.int32(0)
-        f.attrs["stage_name"] = "generated"
-        f.attrs["kind"] = "configuration"
-        text = deck_text(n, seed, command).encode()
-        f.create_dataset("deck", data=np.array(text, dtype=f"S{len(text)}"))
-
-        def put(name, data, unit):
-            f.create_dataset(name, data=data).attrs["unit"] = unit
-
-        put("cell/length", Lm, "m")
-        put("cell/rate", np.zeros(2), "m/s")
-        put("particles/id", np.arange(n, dtype=np.int64), "1")
-        put("particles/radius", r, "m")
-        put("particles/mass", mass, "kg")
-        put("particles/inertia", mass * r ** 2 / 2, "kg m^2")
-        put("particles/scaled_position", s, "1")
-        put("particles/position", s * Lm, "m")
-        put("particles/velocity", np.zeros((n, 2)), "m/s")
-        put("particles/angular_velocity", np.zeros((n, 1)), "rad/s")
-        put("particles/orientation", np.zeros((n, 1)), "rad")
-        put("contacts/first", np.zeros(0, np.int64), "1")
-        put("contacts/second", np.zeros(0, np.int64), "1")
-        put("contacts/normal_force", np.zeros(0), "N")
-        put("contacts/tangential_force", np.zeros((0, 2)), "N")
-        put("contacts/rolling", np.zeros((0, 1)), "rad")
-        put("contacts/flags", np.zeros(0, np.uint32), "1")
-        put("contacts/age", np.zeros(0, np.int64), "steps")
+    gio.write_packing(path, 2, Lm, {"id": np.arange(n, dtype=np.int64), "radius": r, "mass": mass,
+                                    "inertia": mass * r ** 2 / 2, "scaled_position": s},
+                      attrs={"granpack_version": "known_structures.py", "stage_name": "generated"},
+                      deck=deck_text(n, seed, command))
 
 
 def main(argv):

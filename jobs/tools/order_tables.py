@@ -7,8 +7,9 @@ For each d_c in 1.1-1.4 a, the fractions (%) of grains whose local (Q4, Q6) lies
 Usage: /usr/bin/python3 jobs/tools/order_tables.py STATE=analysis.json ...  (STATE: A, A', B, C, D)
 Prints Markdown tables to paste into docs/reproduction.md.
 """
-import json
-import sys
+import argparse
+
+import granpack_io as gio
 
 # [AR] tables VII-VIII: (dis, fcc, hcp) in %, "<0.01" written as 0.
 PAPER = {
@@ -21,12 +22,32 @@ PAPER = {
 WINDOW = {"A": "aste_F", "A'": "aste_F", "C": "aste_F", "B": "aste_D", "D": "aste_B"}
 
 
+def state_file(arg):
+    """STATE=analysis.json -> (STATE, the analysis as a dict); the state must have a window."""
+    if "=" not in arg:
+        raise argparse.ArgumentTypeError(f"'{arg}' is not STATE=analysis.json")
+    state, path = arg.split("=", 1)
+    if state not in WINDOW:
+        raise argparse.ArgumentTypeError(f"unknown state '{state}' (one of {', '.join(WINDOW)})")
+    try:
+        analysis = gio.read_analysis(path)
+    except gio.GranpackFileError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+    if not isinstance(analysis.get("order"), dict):
+        raise argparse.ArgumentTypeError(f"{path}: no 'order' section")
+    return state, analysis
+
+
 def main():
-    states = [a.split("=", 1) for a in sys.argv[1:]]
+    ap = argparse.ArgumentParser(prog="order_tables.py", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("states", nargs="+", type=state_file, metavar="STATE=analysis.json",
+                    help="a state's label (A, A', B, C, D) and its analysis JSON")
+    states = ap.parse_args().states
     print("| state | d_c/a | dis % (ours / [AR]) | fcc % (ours / [AR]) | hcp % (ours / [AR]) |")
     print("|---|---|---|---|---|")
-    for state, path in states:
-        order = json.load(open(path))["order"]
+    for state, analysis in states:
+        order = analysis["order"]
         for dc in ("1.10", "1.20", "1.30", "1.40"):
             w = order[dc]["windows"][WINDOW[state]]
             ours = (100 * w["dis"], 100 * w["fcc"], 100 * w["hcp"])

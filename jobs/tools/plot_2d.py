@@ -23,11 +23,12 @@ import io
 import math
 import re
 import sys
-import tomllib
 from pathlib import Path
 
 import numpy as np
 import matplotlib
+
+import granpack_io as gio
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -36,14 +37,10 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch, Rectangle  # noqa: E402
 
 PROG = "plot_2d.py"
-DISTANT_BIT = 4  # contacts/flags bit 2: kDistant (include/granpack/core/contact_store.h)
 CLASSES = ("compressive", "tensile", "distant", "unstressed")
 COLOURS = {"compressive": "#d62728", "tensile": "#2ca02c", "distant": "#1f4fd6",
            "unstressed": "#9a9a9a"}
 RATTLER_FILL = "#dcdcdc"
-REQUIRED = ("cell/length", "particles/id", "particles/radius", "particles/scaled_position",
-            "contacts/first", "contacts/second", "contacts/normal_force",
-            "contacts/tangential_force", "contacts/flags")
 
 
 def note(msg):
@@ -56,129 +53,38 @@ def die(msg):
 
 
 # ---------------------------------------------------------------------------------------------
-def material(deck_text, stage_index, path):
-    """F0, D0, mu in force at the time the file was written: [material], then the `set`
-    stages up to the writing stage. Unreadable deck: F0 = D0 = 0, mu unknown (None)."""
-    try:
-        deck = tomllib.loads(deck_text)
-    except tomllib.TOMLDecodeError as e:
-        note(f"{path}: the stored deck is not valid TOML ({e}); assuming no cohesion and an "
-             "unknown friction coefficient")
-        return 0.0, 0.0, None
-    mat = deck.get("material", {}) if isinstance(deck.get("material"), dict) else {}
-
-    def num(v):
-        return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else None
-
-    f0 = num(mat.get("cohesion_force")) or 0.0
-    d0 = num(mat.get("cohesion_range")) or 0.0
-    mu = num(mat.get("friction"))
-    stages = deck.get("stage", [])
-    if isinstance(stages, list):
-        last = len(stages) if stage_index is None else stage_index + 1
-        for st in stages[:last]:
-            if isinstance(st, dict) and st.get("kind") == "set" and num(st.get("friction")) is not None:
-                mu = num(st.get("friction"))
-    if mu is None:
-        note(f"{path}: no friction coefficient in the stored deck; no Coulomb lines")
-    return f0, d0, mu
-
-
 def load(path, label):
-    """Read one 2D packing and compute every interaction's static forces (in N)."""
+    """Read one 2D packing (jobs/tools/granpack_io.py) and compute every interaction's static
+    forces (in N)."""
     try:
-        import h5py
-    except ImportError:
-        die("h5py is not installed (Debian: apt-get install python3-h5py)")
-    p = Path(path)
-    if not p.exists():
-        die(f"'{path}': no such file")
-    try:
-        f = h5py.File(p, "r")
-    except OSError as e:
-        die(f"'{path}' is not a readable HDF5 file ({e})")
-    with f:
-        if f.attrs.get("format") != "granpack":
-            die(f"'{path}' is not a granpack file (no root attribute format = \"granpack\")")
-        dim = int(f.attrs.get("dimension", -1))
-        if dim != 2:
-            die(f"'{path}' is a {dim}D packing; {PROG} draws 2D packings only")
-        for name in REQUIRED:
-            if name not in f:
-                die(f"'{path}': missing dataset /{name}")
-        try:
-            L = f["cell/length"][:].astype(float)
-            ids = f["particles/id"][:]
-            R = f["particles/radius"][:].astype(float)
-            s = f["particles/scaled_position"][:].astype(float)
-            first = f["contacts/first"][:]
-            second = f["contacts/second"][:]
-            Ne = f["contacts/normal_force"][:].astype(float)
-            Tv = f["contacts/tangential_force"][:].astype(float)
-            flags = f["contacts/flags"][:].astype(np.int64)
-            deck = f["deck"][()] if "deck" in f else b""
-            # The contact law in force when the file was written (docs/hdf5-schema.md); files
-            # written before the group existed replay the stored deck (material() below).
-            law = None
-            if "parameters" in f:
-                a = f["parameters"].attrs
-                law = tuple(float(a[k]) for k in ("cohesion_force", "cohesion_range", "friction"))
-        except (OSError, ValueError, TypeError, KeyError) as e:
-            die(f"'{path}': cannot read the packing ({e})")
-        stage_index = f.attrs.get("stage_index")
-        stage_index = int(stage_index) if stage_index is not None else None
-        kind = f.attrs.get("kind", "?")
-    n, nc = len(ids), len(first)
-    if L.shape != (2,) or not np.all(L > 0):
-        die(f"'{path}': /cell/length is not two positive lengths")
-    if R.shape != (n,) or s.shape != (n, 2):
-        die(f"'{path}': particle datasets do not have {n} rows of the 2D shapes")
-    if Tv.ndim == 1:
-        Tv = Tv[:, None]
-    if second.shape != (nc,) or Ne.shape != (nc,) or flags.shape != (nc,) or Tv.shape[0] != nc \
-            or Tv.shape[1] < 2:
-        die(f"'{path}': contact datasets do not all have {nc} rows of the documented shapes")
-    Tv = Tv[:, :2]
-    if isinstance(deck, bytes):
-        deck = deck.rstrip(b"\0").decode("utf-8", errors="replace")
-    if law is not None:
-        f0, d0, mu = law
-    elif not deck:
-        note(f"{path}: no /deck dataset; assuming no cohesion and an unknown friction coefficient")
-        f0, d0, mu = 0.0, 0.0, None
-    else:
-        f0, d0, mu = material(str(deck), stage_index, path)
-
-    order = np.argsort(ids)
-    sorted_ids = ids[order]
-
-    def index(g, what):
-        k = np.searchsorted(sorted_ids, g)
-        k = np.clip(k, 0, max(n - 1, 0))
-        if n == 0 or not np.all(sorted_ids[k] == g):
-            die(f"'{path}': /contacts/{what} holds ids that are not in /particles/id")
-        return order[k]
-
-    i, j = index(first, "first"), index(second, "second")
-    x = np.mod(s, 1.0) * L
-    d = x[j] - x[i]
-    d -= L * np.round(d / L)                               # minimum image
-    dist = np.sqrt((d ** 2).sum(axis=1))
+        pk = gio.read_packing(path)
+    except gio.GranpackFileError as e:
+        die(str(e))
+    if pk.dimension != 2:
+        die(f"'{path}' is a {pk.dimension}D packing; {PROG} draws 2D packings only")
+    # The contact law in force when the file was written (/parameters; older files replay the
+    # stored deck's [material] and `set` stages).
+    law = pk.law()
+    if not pk.parameters and not law:
+        note(f"{path}: no readable deck; assuming no cohesion and an unknown friction coefficient")
+    f0, d0 = float(law.get("cohesion_force", 0.0)), float(law.get("cohesion_range", 0.0))
+    mu = law.get("friction")
+    mu = float(mu) if mu is not None else None
+    if mu is None and law:
+        note(f"{path}: no friction coefficient in the stored deck; no Coulomb lines")
+    nc = pk.nc
+    x = np.mod(pk.grains["scaled_position"].astype(float), 1.0) * pk.cell_length
+    d = pk.branch                                          # minimum image
+    dist = pk.distance
     if nc and not np.all(dist > 0):
         die(f"'{path}': two interacting grains at the same position")
-    nrm = d / dist[:, None] if nc else np.zeros((0, 2))
+    nrm = pk.normal if nc else np.zeros((0, 2))
     tng = np.stack([-nrm[:, 1], nrm[:, 0]], axis=1)          # n turned by +90 deg
-    distant = (flags & DISTANT_BIT) != 0
-    gap = dist - R[i] - R[j]
-    if d0 > 0:
-        na_dist = -f0 * np.clip(1.0 - gap / d0, 0.0, 1.0)
-    else:
-        na_dist = np.zeros(nc)
-    Na = np.where(distant, na_dist, -f0)                   # [GRC] eq. 4-5
-    N = Ne + Na                                            # static normal force, > 0 repulsive
-    T = (Tv * tng).sum(axis=1)                             # signed T, positive moment on i
-    return dict(path=str(path), label=label, kind=kind, L=L, x=x, R=R, i=i, j=j, d=d, n_hat=nrm,
-                t_hat=tng, Ne=Ne, N=N, T=T, flags=flags, distant=distant, gap=gap,
+    N = pk.total_normal_force                              # [GRC] eq. 4-5: N^e + N^a, > 0 repulsive
+    T = (pk.contacts["tangential_force"][:, :2] * tng).sum(axis=1)  # signed T, positive moment on i
+    return dict(path=str(path), label=label, kind=pk.kind, L=pk.cell_length, x=x, R=pk.radius,
+                i=pk.i, j=pk.j, d=d, n_hat=nrm, t_hat=tng, Ne=pk.contacts["normal_force"], N=N, T=T,
+                flags=pk.contacts["flags"].astype(np.int64), distant=pk.distant, gap=-pk.overlap,
                 f0=f0, d0=d0, mu=mu)
 
 

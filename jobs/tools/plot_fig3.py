@@ -12,7 +12,7 @@ Plots the reduced modulus B / (E~^(2/3) P^(1/3)) (E~ = E / (1 - nu^2)) against P
 It prints the table of the plotted values on stdout. Files whose `bulk_modulus_eq30` is null
 (not 3D Hertz monodisperse) or whose moduli are invalid are refused with the file's name.
 """
-import json
+import argparse
 import sys
 
 import matplotlib
@@ -20,21 +20,26 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import granpack_io as gio  # noqa: E402
+
 
 def die(msg):
     print(f"plot_fig3.py: error: {msg}", file=sys.stderr)
     sys.exit(2)
 
 
-def main(argv):
-    if len(argv) < 3:
-        die("usage: plot_fig3.py OUT.png LEVEL.json [LEVEL.json ...]")
+def main():
+    ap = argparse.ArgumentParser(prog="plot_fig3.py", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out", help="the figure (.png)")
+    ap.add_argument("levels", nargs="+", help="`granpack stiffness --json` files, one per level")
+    args = ap.parse_args()
     rows = []
-    for path in argv[2:]:
+    for path in args.levels:
         try:
-            j = json.load(open(path))
-        except (OSError, json.JSONDecodeError) as e:
-            die(f"{path}: {e}")
+            j = gio.read_stiffness(path)
+        except gio.GranpackFileError as e:
+            die(str(e))
         for key in ("pressure", "bulk_modulus", "bulk_modulus_eq30", "bulk_modulus_reduced"):
             if j.get(key) is None:
                 die(f"{path}: '{key}' is missing or null (a valid 3D Hertz stiffness result is needed)")
@@ -62,9 +67,9 @@ def main(argv):
     ax.set_title("frictionless glass beads ([AR] fig. 3)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(argv[1], dpi=120)
-    print(argv[1])
+    fig.savefig(args.out, dpi=120)
+    print(args.out)
 
 
 if __name__ == "__main__":
-    main(sys.argv)
+    main()

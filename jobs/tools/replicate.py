@@ -14,44 +14,38 @@ configuration, not a checkpoint).
 
 Usage: /usr/bin/python3 jobs/tools/replicate.py IN.h5 OUT.h5 KX KY [KZ]
 """
+import argparse
 import itertools
-import sys
 
-import h5py
 import numpy as np
 
-PARTICLE_SETS = ["id", "radius", "mass", "inertia", "scaled_position", "position", "velocity",
-                 "angular_velocity", "orientation"]
-CONTACT_SETS = ["first", "second", "normal_force", "tangential_force", "rolling", "flags", "age"]
+import granpack_io as gio
+
+PROG = "replicate.py"
 
 
-def replicate(src, dst, reps):
-    dim = int(src.attrs["dimension"])
+def replicate(src, reps):
+    """src: a granpack_io.Packing; returns (grains, contacts, cell lengths) of the copy."""
+    dim = src.dimension
     if len(reps) != dim or any(k < 1 for k in reps):
-        sys.exit(f"replicate.py: give {dim} factors >= 1, got {reps}")
-    if src.attrs["kind"] != "configuration" and src.attrs["kind"] != "checkpoint":
-        sys.exit("replicate.py: not a granpack configuration")
+        gio.fail(PROG, f"give {dim} factors >= 1, got {reps}")
     reps = np.array(reps)
     copies = list(itertools.product(*[range(k) for k in reps]))
-    ncopy = len(copies)
-    L = src["cell/length"][:]
-    p = {k: src["particles/" + k][:] for k in PARTICLE_SETS}
-    c = {k: src["contacts/" + k][:] for k in CONTACT_SETS}
-    n, nc = len(p["id"]), len(c["first"])
+    L = src.cell_length
+    p, c = src.grains, src.contacts
+    nc = src.nc
     stride = int(p["id"].max()) + 1
-    row = {int(g): r for r, g in enumerate(p["id"])}
     s = p["scaled_position"]
 
-    out_p = {k: [] for k in PARTICLE_SETS}
-    out_c = {k: [] for k in CONTACT_SETS}
+    out_p = {k: [] for k in gio.PARTICLE_SETS}
+    out_c = {k: [] for k in gio.CONTACT_SETS}
     # Minimum-image shift of each contact (in cells of the original): j's image near i.
-    ri = np.array([row[int(g)] for g in c["first"]], dtype=np.int64)
-    rj = np.array([row[int(g)] for g in c["second"]], dtype=np.int64)
+    ri, rj = src.i, src.j
     shift = -np.rint(s[rj] - s[ri]).astype(np.int64) if nc else np.zeros((0, dim), np.int64)
     for ci, cc in enumerate(copies):
         cc = np.array(cc)
         out_p["id"].append(p["id"] + ci * stride)
-        for k in PARTICLE_SETS[1:]:
+        for k in gio.PARTICLE_SETS[1:]:
             out_p[k].append(p[k])
         out_p["scaled_position"][-1] = (s + cc) / reps
         out_p["position"][-1] = out_p["scaled_position"][-1] * (L * reps)
@@ -70,31 +64,28 @@ def replicate(src, dst, reps):
         out_c["rolling"].append(c["rolling"] * sign[:, None])
         for k in ("normal_force", "flags", "age"):
             out_c[k].append(c[k])
-
-    for k, v in src.attrs.items():
-        dst.attrs[k] = v
-    dst.attrs["n_particles"] = np.int64(n * ncopy)
-    dst.attrs["n_contacts"] = np.int64(nc * ncopy)
-    dst.attrs["kind"] = "configuration"
-    src.copy("deck", dst)
-    for group, names, data in (("particles", PARTICLE_SETS, out_p), ("contacts", CONTACT_SETS, out_c)):
-        for k in names:
-            arr = np.concatenate(data[k]) if data[k] else src[group + "/" + k][:]
-            ds = dst.create_dataset(group + "/" + k, data=arr.astype(src[group + "/" + k].dtype))
-            for ak, av in src[group + "/" + k].attrs.items():
-                ds.attrs[ak] = av
-    for k in ("length", "rate"):
-        ds = dst.create_dataset("cell/" + k, data=src["cell/" + k][:] * reps)
-        for ak, av in src["cell/" + k].attrs.items():
-            ds.attrs[ak] = av
+    grains = {k: np.concatenate(v).astype(p[k].dtype) for k, v in out_p.items()}
+    contacts = {k: (np.concatenate(v) if v else c[k]).astype(c[k].dtype) for k, v in out_c.items()}
+    return grains, contacts, L * reps
 
 
 def main():
-    if len(sys.argv) not in (5, 6):
-        sys.exit(__doc__.strip().splitlines()[-1])
-    reps = [int(x) for x in sys.argv[3:]]
-    with h5py.File(sys.argv[1], "r") as src, h5py.File(sys.argv[2], "w") as dst:
-        replicate(src, dst, reps)
+    ap = argparse.ArgumentParser(prog=PROG, description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("input", help="a granpack configuration or checkpoint (.h5)")
+    ap.add_argument("output", help="the replicated configuration (.h5), overwritten")
+    ap.add_argument("factors", type=int, nargs="+", help="KX KY [KZ]: copies along each axis")
+    args = ap.parse_args()
+    try:
+        src = gio.read_packing(args.input)
+    except gio.GranpackFileError as e:
+        gio.fail(PROG, e)
+    grains, contacts, length = replicate(src, args.factors)
+    attrs = {k: v for k, v in src.raw_attrs.items() if k not in ("n_particles", "n_contacts")}
+    attrs["kind"] = "configuration"
+    gio.write_packing(args.output, src.dimension, length, grains, contacts, attrs=attrs,
+                      deck=src.deck, cell_rate=src.cell_rate * np.array(args.factors),
+                      parameters=src.raw_parameters)
 
 
 if __name__ == "__main__":

@@ -10,16 +10,18 @@ none is left. This script redoes that from the file's contacts for several thres
 """
 import argparse
 
-import h5py
 import numpy as np
+
+import granpack_io as gio
 
 
 def backbone_zstar(path, pressure, threshold, min_contacts):
-    with h5py.File(path, "r") as f:
-        force = f["contacts/normal_force"][:]
-        first, second = f["contacts/first"][:], f["contacts/second"][:]
-        ids = f["particles/id"][:]
-        a = 2.0 * f["particles/radius"][:].max()
+    try:
+        p = gio.read_packing(path)
+    except gio.GranpackFileError as e:
+        gio.fail("zstar_threshold.py", e)
+    force, ids, a = p.contacts["normal_force"], p.grains["id"], p.diameter
+    first, second = p.contacts["first"], p.contacts["second"]
     index = np.full(ids.max() + 1, -1)
     index[ids] = np.arange(len(ids))
     keep = force > threshold * a * a * pressure

@@ -1,6 +1,7 @@
 #include "granpack/engine/state_file.h"
 
 #include "granpack/comm/migration.h"
+#include "granpack/engine/network_fields.h"
 
 namespace granpack {
 
@@ -41,6 +42,10 @@ void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
   c.meta.kind = run_state.empty() ? "configuration" : "checkpoint";
   c.meta.run_state = run_state;
   c.meta.parameters = ctx.parameters();
+  // Configurations carry their contact network for viewers (the /network group, its XDMF
+  // grid); checkpoints are restart state and stay as they were.
+  if (run_state.empty())
+    c.network = network_fields(ctx, c.contacts);
   write_configuration<dim>(ctx.world, file, c);
 }
 

@@ -785,6 +785,45 @@ void write_file(MPI_Comm comm, const FileContext& ctx, const Configuration<dim>&
   });
 }
 
+/// The /network group (docs/hdf5-schema.md): the contact segments as 2 points per contact and
+/// a line per contact, their forces and class, and the per-grain sums; for the XDMF sidecar.
+template <int dim, class Phase>
+void write_network(const FileContext& ctx, hid_t file, hid_t dxpl, const NetworkFields<dim>& f,
+                   const Slice& ps, const Slice& cs, Phase&& phase) {
+  const std::size_t nc = static_cast<std::size_t>(cs.count);
+  Handle g;
+  phase([&] { g = group_create(ctx, file, "network"); });
+  const std::string gn = "/network";
+  auto rows = [&](const char* name, const auto& values, const Slice& slice, int cols,
+                  const char* unit) {
+    phase([&] { write_rows(ctx, g, gn, name, values, slice, cols, unit, dxpl); });
+  };
+  std::vector<double> point;
+  point.reserve(2 * nc * dim);
+  std::vector<std::int64_t> line(2 * nc);
+  for (std::size_t k = 0; k < nc; ++k) {
+    for (const auto* v : {&f.start[k], &f.end[k]})
+      for (int a = 0; a < dim; ++a)
+        point.push_back((*v)[a]);
+    line[2 * k] = 2 * (cs.offset + static_cast<std::int64_t>(k));
+    line[2 * k + 1] = line[2 * k] + 1;
+  }
+  rows("point", point, Slice{2 * cs.global, 2 * cs.offset, 2 * cs.count}, dim, "m");
+  rows("line", line, cs, 2, "1");
+  rows("normal_force", f.normal_force, cs, 0, "N");
+  rows("tangential_force", f.tangential_magnitude, cs, 0, "N");
+  rows("kind", f.kind, cs, 0, "1");
+  rows("contacts", f.contacts, ps, 0, "1");
+  rows("carrying_contacts", f.carrying_contacts, ps, 0, "1");
+  rows("mean_stress", f.mean_stress, ps, 0, "Pa");
+  std::vector<double> net;
+  net.reserve(static_cast<std::size_t>(ps.count) * dim);
+  for (std::int64_t i = 0; i < ps.count; ++i)
+    for (int a = 0; a < dim; ++a)
+      net.push_back(f.net_force[a][static_cast<std::size_t>(i)]);
+  rows("net_force", net, ps, dim, "N");
+}
+
 /// write_file's datasets and attributes, each phase agreed on by every rank.
 template <int dim, class Phase>
 void write_contents(MPI_Comm comm, const FileContext& ctx, hid_t file, hid_t dxpl,
@@ -886,6 +925,8 @@ void write_contents(MPI_Comm comm, const FileContext& ctx, hid_t file, hid_t dxp
     rows("flags", flags, 0, "1");
     rows("age", age, 0, "steps");
   }
+  if (c.network)
+    write_network(ctx, file, dxpl, *c.network, ps, cs, phase);
 }
 
 /// Why a write into `file` most likely failed: HDF5 and MPI-IO report "file write failed"
@@ -996,7 +1037,8 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
   collectively(comm, [&] {
     if (rank != 0)
       return;
-    XdmfParticles x{path.filename().string(), dim, ps.global, c.meta.time};
+    XdmfParticles x{path.filename().string(), dim, ps.global, c.meta.time,
+                    c.network ? cs.global : -1};
     write_particles_xdmf(xdmf_path_for(path), x);
   });
 }

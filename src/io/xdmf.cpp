@@ -46,30 +46,65 @@ std::string particles_xdmf(const XdmfParticles& p) {
   const std::string file = xml_escape(p.h5_name);
   const std::string n = std::to_string(p.n_particles);
   const std::string nd = n + " " + std::to_string(p.dimension);
+  const std::string rd = n + " " + (p.dimension == 2 ? "1" : "3");
+  const char* geometry = p.dimension == 2 ? "XY" : "XYZ";
+  const bool network = p.n_network_contacts >= 0;
+  const bool lines = p.n_network_contacts > 0; // ParaView refuses a grid of no cells
+  const std::string ind = network ? "  " : ""; // the grids sit inside a collection
   auto item = [&](const std::string& dims, const char* type, const std::string& dataset) {
-    return "        <DataItem Dimensions=\"" + dims + "\" NumberType=\"" + type +
+    return ind + "        <DataItem Dimensions=\"" + dims + "\" NumberType=\"" + type +
            "\" Precision=\"8\" Format=\"HDF\">" + file + ":" + dataset + "</DataItem>\n";
+  };
+  auto attribute = [&](const char* name, const char* kind, const char* center,
+                       const std::string& dims, const char* type, const std::string& dataset) {
+    return ind + "      <Attribute Name=\"" + name + "\" AttributeType=\"" + kind + "\" Center=\"" +
+           center + "\">\n" + item(dims, type, dataset) + ind + "      </Attribute>\n";
   };
   std::ostringstream os;
   os.precision(17);
   os << "<?xml version=\"1.0\" ?>\n"
-     << "<!-- granpack particles; data in " << file << " (see docs/hdf5-schema.md) -->\n"
+     << "<!-- granpack particles" << (lines ? " and contact network" : "") << "; data in " << file
+     << " (see docs/hdf5-schema.md, docs/visualisation.md) -->\n"
      << "<Xdmf Version=\"3.0\">\n"
-     << "  <Domain>\n"
-     << "    <Grid Name=\"particles\" GridType=\"Uniform\">\n"
-     << "      <Time Value=\"" << p.time << "\"/>\n"
-     << "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
+     << "  <Domain>\n";
+  if (network)
+    os << "    <Grid Name=\"packing\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
+       << "      <Time Value=\"" << p.time << "\"/>\n";
+  os << ind << "    <Grid Name=\"particles\" GridType=\"Uniform\">\n"
+     << ind << "      <Time Value=\"" << p.time << "\"/>\n"
+     << ind << "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
      << "\" NodesPerElement=\"1\"/>\n"
-     << "      <Geometry GeometryType=\"" << (p.dimension == 2 ? "XY" : "XYZ") << "\">\n"
-     << item(nd, "Float", "/particles/position") << "      </Geometry>\n"
-     << "      <Attribute Name=\"radius\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-     << item(n, "Float", "/particles/radius") << "      </Attribute>\n"
-     << "      <Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-     << item(n, "Int", "/particles/id") << "      </Attribute>\n"
-     << "      <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n"
-     << item(nd, "Float", "/particles/velocity") << "      </Attribute>\n"
-     << "    </Grid>\n"
-     << "  </Domain>\n"
+     << ind << "      <Geometry GeometryType=\"" << geometry << "\">\n"
+     << item(nd, "Float", "/particles/position") << ind << "      </Geometry>\n"
+     << attribute("radius", "Scalar", "Node", n, "Float", "/particles/radius")
+     << attribute("id", "Scalar", "Node", n, "Int", "/particles/id")
+     << attribute("velocity", "Vector", "Node", nd, "Float", "/particles/velocity")
+     << attribute("angular_velocity", p.dimension == 2 ? "Scalar" : "Vector", "Node", rd, "Float",
+                  "/particles/angular_velocity");
+  if (network)
+    os << attribute("contacts", "Scalar", "Node", n, "Float", "/network/contacts")
+       << attribute("carrying_contacts", "Scalar", "Node", n, "Float", "/network/carrying_contacts")
+       << attribute("net_force", "Vector", "Node", nd, "Float", "/network/net_force")
+       << attribute("mean_stress", "Scalar", "Node", n, "Float", "/network/mean_stress");
+  os << ind << "    </Grid>\n";
+  if (lines) {
+    const std::string nc = std::to_string(p.n_network_contacts);
+    const std::string points =
+        std::to_string(2 * p.n_network_contacts) + " " + std::to_string(p.dimension);
+    os << "      <Grid Name=\"contacts\" GridType=\"Uniform\">\n"
+       << "        <Time Value=\"" << p.time << "\"/>\n"
+       << "        <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << nc
+       << "\" NodesPerElement=\"2\">\n"
+       << item(nc + " 2", "Int", "/network/line") << "        </Topology>\n"
+       << "        <Geometry GeometryType=\"" << geometry << "\">\n"
+       << item(points, "Float", "/network/point") << "        </Geometry>\n"
+       << attribute("normal_force", "Scalar", "Cell", nc, "Float", "/network/normal_force")
+       << attribute("tangential_force", "Scalar", "Cell", nc, "Float", "/network/tangential_force")
+       << attribute("kind", "Scalar", "Cell", nc, "Int", "/network/kind") << "      </Grid>\n";
+  }
+  if (network)
+    os << "    </Grid>\n";
+  os << "  </Domain>\n"
      << "</Xdmf>\n";
   return os.str();
 }

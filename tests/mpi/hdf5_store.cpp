@@ -597,3 +597,89 @@ TYPED_TEST(Hdf5Store, DescribeAndXdmfSidecar) {
 }
 
 } // namespace
+
+namespace {
+/// Dataset `name` of the file at `path`: its shape and its values as doubles (serial HDF5).
+std::pair<std::vector<hsize_t>, std::vector<double>> read_whole(const fs::path& path,
+                                                                const char* name) {
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  const hid_t space = H5Dget_space(d);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(H5Sget_simple_extent_ndims(space)));
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  std::vector<double> v(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  if (!v.empty()) {
+    EXPECT_GE(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+  }
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+  return {dims, v};
+}
+} // namespace
+
+// The /network group (docs/hdf5-schema.md): each rank's contacts as one slice, the lines
+// numbering the global point rows (2k, 2k + 1) whatever rank wrote row k, per-grain rows beside
+// /particles; the sidecar then holds the contacts grid. Without it: no group, no contacts grid.
+TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
+  constexpr int dim = TypeParam::value;
+  const auto dir = scratch("network" + std::to_string(dim));
+  const auto path = dir / "net.h5";
+  auto c = my_part(random_sample<dim>(123, 45, 9), true);
+  NetworkFields<dim> f;
+  for (std::size_t k = 0; k < c.contacts.size(); ++k) {
+    const double key = double(c.contacts.key(k).first) + 1e-3 * double(c.contacts.key(k).second);
+    f.start.push_back(Vec<dim>::Constant(key));
+    f.end.push_back(Vec<dim>::Constant(-key));
+    f.normal_force.push_back(key);
+    f.tangential_magnitude.push_back(2 * key);
+    f.kind.push_back(static_cast<std::int64_t>(k % 4));
+  }
+  for (std::size_t i = 0; i < c.particles.n_owned(); ++i) {
+    f.contacts.push_back(double(c.particles.id[i]));
+    f.carrying_contacts.push_back(0.5 * double(c.particles.id[i]));
+    f.mean_stress.push_back(-double(c.particles.id[i]));
+    for (int a = 0; a < dim; ++a)
+      f.net_force[a].push_back(double(c.particles.id[i]) + a);
+  }
+  c.network = f;
+  write_configuration(MPI_COMM_WORLD, path, c);
+  if (world_rank() == 0) {
+    const auto [ldims, line] = read_whole(path, "/network/line");
+    const auto [pdims, point] = read_whole(path, "/network/point");
+    const auto [ndims, normal] = read_whole(path, "/network/normal_force");
+    const auto [gdims, net] = read_whole(path, "/network/net_force");
+    const auto [cdims, count] = read_whole(path, "/network/contacts");
+    ASSERT_EQ(ldims, (std::vector<hsize_t>{45, 2}));
+    ASSERT_EQ(pdims, (std::vector<hsize_t>{90, dim}));
+    ASSERT_EQ(gdims, (std::vector<hsize_t>{123, dim}));
+    ASSERT_EQ(cdims, (std::vector<hsize_t>{123}));
+    for (std::size_t k = 0; k < 45; ++k) {
+      EXPECT_EQ(line[2 * k], double(2 * k));
+      EXPECT_EQ(line[2 * k + 1], double(2 * k + 1));
+      EXPECT_EQ(point[2 * k * dim], normal[k]);        // start of contact k
+      EXPECT_EQ(point[(2 * k + 1) * dim], -normal[k]); // its end
+    }
+    const auto [idims, ids] = read_whole(path, "/particles/id");
+    for (std::size_t i = 0; i < 123; ++i) {
+      EXPECT_EQ(count[i], ids[i]); // per-grain rows follow /particles
+      EXPECT_EQ(net[i * dim + 1], ids[i] + 1);
+    }
+    const std::string x = file_bytes(xdmf_path_for(path));
+    EXPECT_NE(x.find("TopologyType=\"Polyline\" NumberOfElements=\"45\""), std::string::npos) << x;
+    EXPECT_NE(x.find("Dimensions=\"90 " + std::to_string(dim) + "\""), std::string::npos) << x;
+    EXPECT_NE(x.find(">net.h5:/network/net_force<"), std::string::npos) << x;
+    EXPECT_NE(x.find("Name=\"contacts\" AttributeType=\"Scalar\" Center=\"Node\""),
+              std::string::npos)
+        << x;
+  }
+  // The same state without a network: neither the group nor the contacts grid.
+  c.network.reset();
+  write_configuration(MPI_COMM_WORLD, path, c);
+  if (world_rank() == 0) {
+    const hid_t fid = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    EXPECT_EQ(H5Lexists(fid, "network", H5P_DEFAULT), 0);
+    H5Fclose(fid);
+    EXPECT_EQ(file_bytes(xdmf_path_for(path)).find("Polyline"), std::string::npos);
+  }
+}

@@ -15,6 +15,7 @@
 #include <string>
 #include <string_view>
 
+#include "granpack/analysis/contact_network.h"
 #include "granpack/core/cell.h"
 #include "granpack/core/contact_store.h"
 #include "granpack/core/error.h"
@@ -53,6 +54,9 @@ template <int dim> struct Configuration {
   ParticleStore<dim> particles;
   ContactStore<dim> contacts;
   FileMeta meta;
+  /// Written as /network (docs/hdf5-schema.md) when set (on every rank or none): per contact
+  /// in the order of `contacts`, per grain in the owned order of `particles`. Never read back.
+  std::optional<NetworkFields<dim>> network;
 };
 
 /// Collective on comm. Every rank writes its owned particles and its contacts as one

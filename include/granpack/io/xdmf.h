@@ -1,6 +1,8 @@
 #pragma once
 // The XDMF sidecar of a granpack HDF5 file: a small XML text that tells ParaView/VisIt how to
-// map /particles/* onto a point cloud (Polyvertex topology), so the .h5 opens as particles.
+// map /particles/* onto a point cloud (Polyvertex topology), so the .h5 opens as particles,
+// and, in files with a /network group, the contact network as line cells coloured by force
+// (docs/visualisation.md).
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -13,12 +15,19 @@ struct XdmfParticles {
   int dimension = 3;   ///< 2 -> geometry "XY", 3 -> "XYZ"
   std::int64_t n_particles = 0;
   double time = 0;
+  /// Contacts drawn from /network (its datasets and the per-grain ones); -1: no /network.
+  std::int64_t n_network_contacts = -1;
 };
 
 /// The sidecar's name for an HDF5 file: same directory and stem, extension ".xdmf".
 std::filesystem::path xdmf_path_for(const std::filesystem::path& h5_path);
 
-/// XDMF 3 text: geometry /particles/position, attributes radius, id, velocity.
+/// XDMF 3 text: a grid "particles" (geometry /particles/position, attributes radius, id,
+/// velocity, angular_velocity; with /network also contacts, carrying_contacts, net_force,
+/// mean_stress) and,
+/// with /network and contacts, a grid "contacts" (Polyline cells of 2 points /network/point,
+/// connectivity /network/line; cell attributes normal_force, tangential_force, kind), both in
+/// one spatial collection.
 std::string particles_xdmf(const XdmfParticles& p);
 
 /// Not collective (call on one rank). Writes particles_xdmf(p) to `xdmf_path` atomically

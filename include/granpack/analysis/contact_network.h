@@ -1,0 +1,58 @@
+#pragma once
+// The contact network as something to look at: per contact the segment between the two
+// centres (drawn to the periodic image of the second grain, never across the cell), the static
+// normal force N = N^e + N^a, |T| and a class (compressive, tensile, distant, unstressed); per
+// grain the contact counts and the net static force. Written into configuration files and
+// shown by their XDMF sidecar (docs/visualisation.md, docs/hdf5-schema.md "/network").
+//
+// One rank's contacts over its local particles (owned + ghosts); per-grain sums land on the
+// ghost entries too and are added into their owners by the caller (engine/network_fields).
+// MPI-free.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "granpack/contact/contact_law.h"
+#include "granpack/core/cell.h"
+#include "granpack/core/contact_store.h"
+#include "granpack/core/particles.h"
+
+namespace granpack {
+
+/// Class of an interaction in /network/kind (the colours of jobs/tools/plot_2d.py).
+enum class NetworkKind : std::int64_t {
+  kCompressive = 0, ///< N > 0
+  kTensile = 1,     ///< N < 0, in contact (cohesion)
+  kDistant = 2,     ///< a cohesive pair across a gap (N < 0)
+  kUnstressed = 3,  ///< N = 0
+};
+
+template <int dim> struct NetworkFields {
+  // Per contact, in the order of the ContactStore:
+  std::vector<Vec<dim>> start;              ///< centre of `first`, folded into the cell (m)
+  std::vector<Vec<dim>> end;                ///< start + r_12, the nearest image of `second` (m)
+  std::vector<double> normal_force;         ///< N = N^e + N^a (N; > 0 repulsive)
+  std::vector<double> tangential_magnitude; ///< |T| (N)
+  std::vector<std::int64_t> kind;           ///< NetworkKind
+  // Per local particle (owned, then ghosts: partial sums for their owners):
+  std::vector<double> contacts;                   ///< contacts (distant pairs not counted)
+  std::vector<double> carrying_contacts;          ///< contacts with N^e > 0
+  std::array<std::vector<double>, dim> net_force; ///< sum of the static contact forces (N)
+  /// The grain's mean static stress (Pa): tr of its share of the virial over its volume,
+  /// (1/(dim V_g)) sum over its contacts of f.r_12 / 2 (V_g = pi R^2 per unit thickness in 2D,
+  /// 4 pi R^3 / 3 in 3D); sum_g V_g mean_stress_g / V is the static pressure.
+  std::vector<double> mean_stress;
+  std::int64_t missing = 0; ///< contacts whose grains are not both local (nothing computed)
+};
+
+/// `p`: owned grains and a ghost layer at least as wide as the contacts are long.
+template <int dim>
+NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<dim>& p,
+                                   const ContactStore<dim>& contacts, const ContactLaw<dim>& law);
+
+extern template NetworkFields<2> contact_network<2>(const Cell<2>&, const ParticleStore<2>&,
+                                                    const ContactStore<2>&, const ContactLaw<2>&);
+extern template NetworkFields<3> contact_network<3>(const Cell<3>&, const ParticleStore<3>&,
+                                                    const ContactStore<3>&, const ContactLaw<3>&);
+
+} // namespace granpack

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# The pictures of docs/visualisation.md, from committed files of docs/data: granpack rewrites
+# each file (a deck whose one stage reads it, with the file's own [sample] and [material]), which
+# gives it its /network group and XDMF sidecar, then jobs/tools/pv_packing.py renders the force
+# network under pvbatch (on a virtual X server, jobs/tools/with_xvfb.sh: Debian's ParaView draws
+# through X).
+#   bash jobs/tools/render_pictures.sh [OUT_DIR]     (default docs/figures/visualisation)
+# Needs the build (build/granpack, or GRANPACK_EXE) and paraview, python3-paraview, xvfb.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+exe=${GRANPACK_EXE:-$root/build/granpack}
+dest=${1:-$root/docs/figures/visualisation}
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+for tool in pvbatch Xvfb; do
+  command -v "$tool" > /dev/null || { echo "render_pictures.sh: $tool not found (apt-get install paraview python3-paraview xvfb)" >&2; exit 2; }
+done
+[ -x "$exe" ] || { echo "render_pictures.sh: no granpack executable at $exe (build it, or set GRANPACK_EXE)" >&2; exit 2; }
+mkdir -p "$dest"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# label  file (under docs/data)  size  pv_packing.py options
+pictures=(
+  "A_strong_network A_n4000_seed1.h5 560 --strong 1 --slab 0.35"
+  "D_strong_network D_n4000_seed1.h5 560 --strong 1 --slab 0.35"
+  "GRC_seriesA_P0.01 2d/seriesA_P0.01.h5 600"
+)
+for entry in "${pictures[@]}"; do
+  read -r label file size options <<< "$entry"
+  src="$root/docs/data/$file"
+  # The stored deck up to its first stage, then one `read` stage of the file itself.
+  ROOT="$root" /usr/bin/python3 - "$src" "$work/$label.toml" <<'PY'
+import os, sys
+sys.path.insert(0, os.path.join(os.environ["ROOT"], "jobs/tools"))
+import granpack_io as gio
+p = gio.read_packing(sys.argv[1])
+head = p.deck.split("[[stage]]")[0]
+with open(sys.argv[2], "w") as f:
+    f.write(head + f'\n[[stage]]\nkind = "read"\nfile = "{os.path.abspath(sys.argv[1])}"\n')
+PY
+  mpiexec -n 2 "$exe" run "$work/$label.toml" -o "$work/$label" -q < /dev/null > "$work/$label.log" 2>&1 \
+    || { tail -5 "$work/$label.log" >&2; exit 1; }
+  bash "$root/jobs/tools/with_xvfb.sh" pvbatch "$root/jobs/tools/pv_packing.py" \
+    "$work/$label/final.xdmf" --png "$dest/$label.png" --size "$size" "$size" ${options:-} > /dev/null
+  # 256 colours (Pillow, which matplotlib brings): a third of the size, the same look.
+  /usr/bin/python3 -c 'import sys; from PIL import Image
+im = Image.open(sys.argv[1]).convert("RGB")
+im.quantize(colors=256, method=Image.Quantize.MEDIANCUT).save(sys.argv[1], optimize=True)' "$dest/$label.png"
+  echo "$dest/$label.png ($(stat -c %s "$dest/$label.png") bytes)"
+done

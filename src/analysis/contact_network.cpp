@@ -1,0 +1,84 @@
+#include "granpack/analysis/contact_network.h"
+
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+
+namespace granpack {
+
+namespace {
+/// Volume of a grain of radius r: a disk per unit thickness in 2D, a sphere in 3D.
+template <int dim> double grain_volume(double r) {
+  return dim == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
+}
+} // namespace
+
+template <int dim>
+NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<dim>& p,
+                                   const ContactStore<dim>& contacts, const ContactLaw<dim>& law) {
+  NetworkFields<dim> f;
+  const std::size_t nc = contacts.size(), n = p.size();
+  f.start.assign(nc, Vec<dim>::Zero());
+  f.end.assign(nc, Vec<dim>::Zero());
+  f.normal_force.assign(nc, 0.0);
+  f.tangential_magnitude.assign(nc, 0.0);
+  f.kind.assign(nc, static_cast<std::int64_t>(NetworkKind::kUnstressed));
+  f.contacts.assign(n, 0.0);
+  f.carrying_contacts.assign(n, 0.0);
+  f.mean_stress.assign(n, 0.0);
+  for (auto& c : f.net_force)
+    c.assign(n, 0.0);
+  // Local index of each id: the owned copy first (emplace keeps it), else any ghost image.
+  std::unordered_map<GlobalId, std::size_t> index;
+  index.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+    index.emplace(p.id[i], i);
+  for (std::size_t k = 0; k < nc; ++k) {
+    const auto key = contacts.key(k);
+    const auto a = index.find(key.first), b = index.find(key.second);
+    if (a == index.end() || b == index.end()) {
+      ++f.missing;
+      continue;
+    }
+    const std::size_t i = a->second, j = b->second;
+    const auto& s = contacts.state(k);
+    const Vec<dim> r = cell.min_image(p.position[i], p.position[j]);
+    const double dist = r.norm();
+    const Vec<dim> normal = dist > 0 ? Vec<dim>(r / dist) : Vec<dim>::Zero();
+    const bool distant = (s.flags & kDistant) != 0;
+    const double h = p.radius[i] + p.radius[j] - dist;
+    const double force = s.normal_force + law.attraction(h);
+    f.start[k] = cell.to_real(Cell<dim>::wrap(p.position[i]));
+    f.end[k] = f.start[k] + r;
+    f.normal_force[k] = force;
+    f.tangential_magnitude[k] = s.tangential_force.norm();
+    f.kind[k] = static_cast<std::int64_t>(distant     ? NetworkKind::kDistant
+                                          : force > 0 ? NetworkKind::kCompressive
+                                          : force < 0 ? NetworkKind::kTensile
+                                                      : NetworkKind::kUnstressed);
+    if (!distant) {
+      f.contacts[i] += 1;
+      f.contacts[j] += 1;
+    }
+    if (!distant && s.normal_force > 0) {
+      f.carrying_contacts[i] += 1;
+      f.carrying_contacts[j] += 1;
+    }
+    const Vec<dim> on_second = force * normal + s.tangential_force; // docs/hdf5-schema.md
+    for (int c = 0; c < dim; ++c) {
+      f.net_force[c][j] += on_second[c];
+      f.net_force[c][i] -= on_second[c];
+    }
+    const double half_virial = 0.5 * on_second.dot(r); // each grain's share of f.r_12
+    f.mean_stress[i] += half_virial / (dim * grain_volume<dim>(p.radius[i]));
+    f.mean_stress[j] += half_virial / (dim * grain_volume<dim>(p.radius[j]));
+  }
+  return f;
+}
+
+template NetworkFields<2> contact_network<2>(const Cell<2>&, const ParticleStore<2>&,
+                                             const ContactStore<2>&, const ContactLaw<2>&);
+template NetworkFields<3> contact_network<3>(const Cell<3>&, const ParticleStore<3>&,
+                                             const ContactStore<3>&, const ContactLaw<3>&);
+
+} // namespace granpack

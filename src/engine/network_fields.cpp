@@ -1,0 +1,53 @@
+#include "granpack/engine/network_fields.h"
+
+#include <algorithm>
+
+#include "granpack/comm/halo.h"
+#include "granpack/comm/reduce.h"
+#include "granpack/contact/contact_law_params.h"
+
+namespace granpack {
+
+template <int dim>
+std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
+                                                 const ContactStore<dim>& contacts) {
+  const auto& sys = ctx.system;
+  const auto& d = *ctx.decomposition;
+  const ContactLaw<dim> law = make_contact_law<dim>(ctx.contact_law);
+  ParticleStore<dim> p = sys.particles;
+  p.clear_ghosts();
+  double r_max = 0;
+  for (std::size_t i = 0; i < p.n_owned(); ++i)
+    r_max = std::max(r_max, p.radius[i]);
+  // A contact is at most 2 R_max + D0 long; twice that covers the grains' drift since the
+  // last migration (less than the neighbour-list skin).
+  const double reach = 2 * (2 * global_max(ctx.world, r_max) + law.interaction_range());
+  const Vec<dim> width = Vec<dim>::Constant(reach).cwiseQuotient(sys.cell.length);
+  for (int a = 0; a < dim; ++a)
+    if (d.narrowest(a) < width[a])
+      return std::nullopt; // the same decision on every rank
+  Halo<dim> halo;
+  halo.borders(p, d, width);
+  NetworkFields<dim> f = contact_network(sys.cell, p, contacts, law);
+  if (global_sum(ctx.world, f.missing) > 0)
+    return std::nullopt;
+  halo.reverse_values(f.contacts, d);
+  halo.reverse_values(f.carrying_contacts, d);
+  halo.reverse_values(f.mean_stress, d);
+  for (auto& c : f.net_force)
+    halo.reverse_values(c, d);
+  const std::size_t n = p.n_owned();
+  f.contacts.resize(n);
+  f.carrying_contacts.resize(n);
+  f.mean_stress.resize(n);
+  for (auto& c : f.net_force)
+    c.resize(n);
+  return f;
+}
+
+template std::optional<NetworkFields<2>> network_fields<2>(const RunContext<2>&,
+                                                           const ContactStore<2>&);
+template std::optional<NetworkFields<3>> network_fields<3>(const RunContext<3>&,
+                                                           const ContactStore<3>&);
+
+} // namespace granpack

@@ -1,0 +1,213 @@
+#!/usr/bin/env bash
+# jobs/tools/granpack_io.py (docs/visualisation.md, "The Python reader") on the files of a small
+# 2-rank run: final.h5 (grains, contacts, cell, parameters: counts, units, contacts between
+# existing grains, forces balanced on the non-rattlers within the stage's tolerance, the
+# stress and rattler fraction equal to report.json's), report.json (stage table), the analysis
+# as --json and --h5 (the same curves), a committed cohesive 2D file (attraction N^a, balance
+# in F1), a committed stiffness JSON (modes, rattler ids), write_packing (round trip); and bad
+# input (missing file, foreign HDF5, missing dataset, unknown contact id) raises
+# GranpackFileError naming the file and the object.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+cli_scratch
+export PYTHONPATH="$GRANPACK_SOURCE_DIR/jobs/tools:$PYTHONPATH"
+
+cat > "$scratch/small.toml" <<'TOML'
+[sample]
+dimension = 3
+n = 120
+diameter = 1.0e-3
+seed = 3
+[material]
+density = 2500.0
+normal_law = "hertz"
+young_modulus = 2.88e8
+poisson_ratio = 0.3
+friction = 0.3
+damping = 0.98
+[output]
+log_every = 100000
+[[stage]]
+kind = "random"
+phi = 0.45
+[[stage]]
+kind = "compress"
+pressure = 1.0e4
+inertia_max = 1.0e-2
+quench_interval = 20000
+TOML
+out="$scratch/run"
+check_exit "2-rank run" 0 "$scratch/run.txt" granpack_on 2 run "$scratch/small.toml" -o "$out" \
+  || checks_stop python_reader "$scratch/run.txt"
+check_exit "analyze --json --h5" 0 "$scratch/an.txt" granpack_on 2 analyze "$out/final.h5" \
+  --json "$out/analysis.json" --h5 "$out/analysis.h5"
+
+/usr/bin/python3 - "$out" "$GRANPACK_SOURCE_DIR" > "$scratch/py.txt" 2>&1 <<'PY'
+import sys
+import numpy as np
+import granpack_io as gio
+from checks import check
+
+out, src = sys.argv[1], sys.argv[2]
+p = gio.read_packing(f"{out}/final.h5")
+rep = gio.read_report(f"{out}/report.json")
+last = rep.stages[-1]
+check(f"dimension 3, n = 120, nc = {p.nc} > 120", p.dimension == 3 and p.n == 120 and p.nc > 120)
+check("kind configuration, stage 1 compress",
+      p.kind == "configuration" and p.stage_index == 1 and p.law()["friction"] == 0.3)
+check("grain arrays have n rows and the schema's columns",
+      all(len(v) == 120 for v in p.grains.values()) and p.grains["position"].shape == (120, 3)
+      and p.grains["orientation"].shape == (120, 4) and p.grains["angular_velocity"].shape == (120, 3))
+check("contact arrays have nc rows", all(len(v) == p.nc for v in p.contacts.values())
+      and p.contacts["tangential_force"].shape == (p.nc, 3))
+check("units named", p.units["particles/radius"] == "m" and p.units["contacts/normal_force"] == "N"
+      and p.units["cell/length"] == "m" and gio.DERIVED_UNITS["stress"] == "Pa")
+check("ids unique", len(np.unique(p.grains["id"])) == p.n)
+check("contacts reference existing grains, first < second",
+      np.all(p.grains["id"][p.i] == p.contacts["first"]) and
+      np.all(p.grains["id"][p.j] == p.contacts["second"]) and
+      np.all(p.contacts["first"] < p.contacts["second"]))
+check("position = L * scaled_position",
+      np.allclose(p.grains["position"], p.grains["scaled_position"] * p.cell_length, rtol=1e-14))
+check("contacts overlap (h > 0) and are shorter than half the cell",
+      np.all(p.overlap > 0) and np.all(p.distance < 0.5 * p.cell_length.min()))
+P = p.law()["pressure_target"]
+check(f"pressure {p.pressure:.6g} = target {P} within 1e-3", abs(p.pressure - P) < 1e-3 * P)
+check(f"pressure = report's {last['pressure']:.8g}", abs(p.pressure - last["pressure"]) < 1e-6 * P)
+r = p.rattlers()
+check(f"rattler fraction {r.mean():.4f} = report's x0 {last['x0']:.4f}", abs(r.mean() - last["x0"]) < 1e-12)
+z = p.coordination(carrying_only=True)
+check(f"z* {z[~r].mean():.4f} ~ report's {last['z_star']:.4f}", abs(z[~r].mean() - last["z_star"]) < 0.05)
+net = np.linalg.norm(p.net_force(), axis=1) / (p.diameter ** 2 * P)
+print(f"max net force on non-rattlers: {net[~r].max():.3g} a^2 P")
+check("forces balance on non-rattlers (< 1.5e-4 a^2 P)", net[~r].max() < 1.5e-4)
+
+
+def net_of(pk, f):
+    """Net force per grain of per-contact forces f on `second` (-f on `first`)."""
+    out = np.zeros((pk.n, pk.dimension))
+    np.add.at(out, pk.j, f)
+    np.add.at(out, pk.i, -f)
+    return np.linalg.norm(out, axis=1)
+
+
+flipped = net_of(p, p.contact_force - 2 * p.contacts["tangential_force"]) / (p.diameter ** 2 * P)
+check(f"with T on `first` instead, no balance ({flipped[~r].max():.3g} a^2 P): the check can fail",
+      flipped[~r].max() > 1e-2)
+# /network (written by the engine from its own ghost layer) against the reader's recomputation.
+nw = p.network
+check("final.h5 has /network with nc lines, 2 nc points, n grains",
+      nw.get("line", np.zeros((0, 2))).shape == (p.nc, 2) and nw["point"].shape == (2 * p.nc, 3)
+      and nw["contacts"].shape == (p.n,) and nw["net_force"].shape == (p.n, 3))
+if nw:
+    start, end = nw["point"][0::2], nw["point"][1::2]
+    check("segments start at the first grain's centre (folded into the cell)",
+          np.allclose(start, np.mod(p.grains["scaled_position"][p.i], 1.0) * p.cell_length, atol=1e-12))
+    check("segments are the branch vectors (drawn to the image, never across the cell)",
+          np.allclose(end - start, p.branch, atol=1e-12))
+    out_of_cell = ((end < 0) | (end >= p.cell_length)).any(axis=1)
+    print(f"{out_of_cell.sum()} of {p.nc} segments end at an image outside the cell")
+    check("some contacts cross the boundary (the image case is exercised)", out_of_cell.sum() > 0)
+    check("lines join rows 2k, 2k+1", np.array_equal(nw["line"], np.arange(2 * p.nc).reshape(-1, 2)))
+    fscale = np.abs(p.total_normal_force).max()
+    check("normal_force = N^e + N^a", np.allclose(nw["normal_force"], p.total_normal_force, rtol=0, atol=1e-12 * fscale))
+    check("tangential_force = |T|", np.allclose(nw["tangential_force"], p.tangential_magnitude, rtol=0, atol=1e-12 * fscale))
+    check("kind: compressive where N > 0", np.array_equal(nw["kind"] == 0, p.total_normal_force > 0))
+    check("per-grain contacts across ranks", np.array_equal(nw["contacts"], p.coordination()))
+    check("per-grain carrying contacts", np.array_equal(nw["carrying_contacts"], p.coordination(carrying_only=True)))
+    check("per-grain net force", np.allclose(nw["net_force"], p.net_force(), rtol=0, atol=1e-9 * fscale))
+    vg = 4.0 / 3.0 * np.pi * p.radius ** 3
+    check(f"sum of V_g mean_stress_g / V = P ({(vg * nw['mean_stress']).sum() / p.volume:.8g} Pa)",
+          abs((vg * nw["mean_stress"]).sum() / p.volume - p.pressure) < 1e-9 * P)
+    share = np.zeros(p.n)
+    w = 0.5 * (p.contact_force * p.branch).sum(axis=1)
+    np.add.at(share, p.i, w)
+    np.add.at(share, p.j, w)
+    check("per-grain mean stress", np.allclose(nw["mean_stress"], share / (3 * vg), rtol=1e-12, atol=1e-9 * P))
+    check("units of /network", p.units.get("network/point") == "m" and p.units.get("network/net_force") == "N")
+t = rep.stage_table()
+check("stage table: names, phi and pressure arrays", list(t["kind"]) == ["random", "compress"]
+      and abs(t["phi"][-1] - p.phi) < 1e-9 and t["pressure"].shape == (2,) and rep.units["pressure"] == "Pa")
+
+aj = gio.read_analysis(f"{out}/analysis.json")
+ah = gio.read_analysis(f"{out}/analysis.h5")
+check("analysis JSON: curves as arrays", isinstance(aj["g_r"]["g_I"], np.ndarray) and aj["n"] == 120)
+check("analysis --h5 and --json agree (g(r), P(f), phi)",
+      np.allclose(aj["g_r"]["g_I"], ah["g_r"]["g_I"]) and np.allclose(aj["P_f"]["pdf"], ah["P_f"]["pdf"])
+      and abs(aj["phi"] - ah["phi"]) < 1e-15 and abs(aj["phi"] - p.phi) < 1e-9)
+check("read() dispatches on content", isinstance(gio.read(f"{out}/final.h5"), gio.Packing)
+      and isinstance(gio.read(f"{out}/report.json"), gio.Report)
+      and isinstance(gio.read(f"{out}/analysis.h5"), dict))
+
+# A cohesive 2D file (no /parameters: the deck is replayed): attraction and balance in F1.
+c = gio.read_packing(f"{src}/docs/data/2d/method1_cohesive_small.h5")
+f0 = c.law()["cohesion_force"]
+check("2D: orientation and angular velocity have one column",
+      c.grains["orientation"].shape == (c.n, 1) and c.contacts["rolling"].shape == (c.nc, 1))
+check("2D: N^a = -F0 in contact", f0 > 0 and np.all(c.attraction[~c.distant] == -f0))
+F1 = max(f0, c.diameter * c.law().get("pressure_target", c.pressure))
+cr = c.rattlers()
+cnet = np.linalg.norm(c.net_force(), axis=1) / F1
+check(f"2D cohesive: balanced within 1.5e-4 F1 ({cnet[~cr].max():.3g})", cnet[~cr].max() < 1.5e-4)
+bad = net_of(c, c.contact_force - c.attraction[:, None] * c.normal).max() / F1
+check(f"2D cohesive: unbalanced without the attraction ({bad:.3g} F1)", bad > 1e-2)
+
+import glob
+sj = sorted(glob.glob(f"{src}/docs/data/analysis/fig3/*.json"))[0]
+s = gio.read_stiffness(sj)
+check("stiffness JSON: mechanisms, modes and rattler ids as arrays",
+      isinstance(s["mechanisms"], int) and isinstance(s["modes"], list)
+      and s["rattler_ids"].dtype == np.int64 and len(s["rattler_ids"]) == len(s["rattler_grains"]))
+
+gio.write_packing(f"{out}/copy.h5", 3, p.cell_length, p.grains, p.contacts,
+                  attrs={"time": p.time, "step": p.step, "stage_index": 1}, deck=p.deck)
+q = gio.read_packing(f"{out}/copy.h5")
+check("write_packing round trip", q.n == p.n and q.nc == p.nc and q.deck == p.deck and
+      all(np.array_equal(q.grains[k], p.grains[k]) for k in gio.PARTICLE_SETS) and
+      all(np.array_equal(q.contacts[k], p.contacts[k]) for k in gio.CONTACT_SETS))
+field = gio.mode_field(p, [p.grains["id"][:3], p.grains["id"][2:5]])
+check("mode_field", list(field[:6]) == [0, 0, 0, 1, 1, -1])
+
+
+def refused(name, fn, *words):
+    try:
+        fn()
+    except gio.GranpackFileError as e:
+        check(f"{name}: {e}", all(w in str(e) for w in words))
+        return
+    check(f"{name}: GranpackFileError raised", False)
+
+
+import h5py
+refused("missing file", lambda: gio.read_packing(f"{out}/nope.h5"), "nope.h5", "no such file")
+with h5py.File(f"{out}/foreign.h5", "w") as f:
+    f["x"] = [1]
+refused("foreign HDF5", lambda: gio.read_packing(f"{out}/foreign.h5"), "foreign.h5", "not a granpack")
+with open(f"{out}/text.h5", "w") as f:
+    f.write("hello")
+refused("not HDF5", lambda: gio.read_packing(f"{out}/text.h5"), "text.h5", "HDF5")
+with h5py.File(f"{out}/copy.h5", "a") as f:
+    del f["contacts/flags"]
+refused("missing dataset", lambda: gio.read_packing(f"{out}/copy.h5"), "copy.h5", "/contacts/flags")
+cont = dict(p.contacts)
+cont["second"] = cont["second"].copy()
+cont["second"][0] = 10 ** 9
+gio.write_packing(f"{out}/badid.h5", 3, p.cell_length, p.grains, cont)
+refused("unknown contact id", lambda: gio.read_packing(f"{out}/badid.h5"), "badid.h5", "/contacts/second")
+refused("report without stages", lambda: gio.read_report(f"{out}/analysis.json"), "analysis.json", "stages")
+PY
+checks_from "reader checks" "$scratch/py.txt" $?
+
+# The tools read granpack files through the reader and parse their command lines with argparse.
+tools="$GRANPACK_SOURCE_DIR/jobs/tools"
+check "no jobs/tools script but granpack_io.py imports h5py: $(grep -l 'import h5py' "$tools"/*.py | grep -v granpack_io.py)" \
+  "[ -z \"\$(grep -l 'import h5py' '$tools'/*.py | grep -v granpack_io.py)\" ]"
+check "no hand-parsed argv in jobs/tools: $(grep -n 'sys\.argv' "$tools"/*.py | grep -v 'main(sys\.argv\[1:\])')" \
+  "[ -z \"\$(grep -n 'sys\.argv' '$tools'/*.py | grep -v 'main(sys\.argv\[1:\])')\" ]"
+for t in "$tools"/*.py; do
+  grep -q '__main__' "$t" || continue
+  check "$(basename "$t") uses argparse" "grep -q '^import argparse' '$t'"
+done
+
+checks_done python_reader
