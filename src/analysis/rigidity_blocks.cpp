@@ -88,13 +88,28 @@ DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const Rigidit
 }
 
 namespace {
-/// Rolling rows exist in 2D only: in 3D the rolling moment turns with the contact, a
-/// geometric term geometric_block does not have.
+/// Rolling resistance acts between rotations, which frictionless layouts do not carry.
 template <int dim> void check_rolling_layout(const RigidityLayout<dim>& l) {
-  GRANPACK_CHECK(!l.rolling || (dim == 2 && l.rotations),
-                 "rigidity: rolling-resistance rows are implemented in 2D with friction only");
+  GRANPACK_CHECK(!l.rolling || l.rotations,
+                 "rigidity: rolling-resistance rows need friction (rotation unknowns)");
 }
 } // namespace
+
+template <int dim> Eigen::Matrix<double, rot_dim<dim>, dim - 1> rolling_basis(const Vec<dim>& n) {
+  Eigen::Matrix<double, rot_dim<dim>, dim - 1> t;
+  if constexpr (dim == 3) {
+    // The axis least aligned with n gives a well-conditioned first tangent.
+    int k = 0;
+    n.cwiseAbs().minCoeff(&k);
+    const Vec<3> t1 = n.cross(Vec<3>::Unit(k)).normalized();
+    t.col(0) = t1;
+    t.col(1) = n.cross(t1);
+  } else {
+    (void)n;
+    t(0, 0) = 1.0;
+  }
+  return t;
+}
 
 template <int dim>
 DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l) {
@@ -105,10 +120,12 @@ DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>
   if (!l.rolling)
     return d;
   const Offsets<dim> o(l);
-  DynMatrix rows = DynMatrix::Zero(dim + 1, l.local_size());
+  DynMatrix rows = DynMatrix::Zero(l.rows_per_contact(), l.local_size());
   rows.topRows(dim) = d;
-  rows(dim, o.ri) = 1.0; // ρ_i - ρ_j = ell (θ_i - θ_j): the rotation of i relative to j
-  rows(dim, o.rj) = -1.0;
+  // tᵀ(ρ_i - ρ_j) = ell tᵀ(θ_i - θ_j): the rolling of i relative to j, pivoting left out.
+  const auto t = rolling_basis<dim>(c.geometry.normal);
+  rows.block(dim, o.ri, l.rolling_rows, rot_dim<dim>) = t.transpose();
+  rows.block(dim, o.rj, l.rolling_rows, rot_dim<dim>) = -t.transpose();
   return rows;
 }
 
@@ -119,7 +136,8 @@ DynVector contact_force_vector(const RigidityContact<dim>& c, const RigidityLayo
   DynVector f = DynVector::Zero(l.rows_per_contact());
   f.head(dim) = c.normal_force * c.geometry.normal + c.tangential_force;
   if (l.rolling)
-    f[dim] = c.rolling_moment[0] / l.ell;
+    f.tail(l.rolling_rows) =
+        rolling_basis<dim>(c.geometry.normal).transpose() * c.rolling_moment / l.ell;
   return f;
 }
 
@@ -133,8 +151,11 @@ DynMatrix contact_stiffness(const RigidityContact<dim>& c, const RigidityLayout<
   k.topLeftCorner(dim, dim) =
       c.stiffness.k_n * nn + c.stiffness.k_t * (Tensor<dim>::Identity() - nn);
   // Γ^r = -K_r δθ with δθ = θ_j - θ_i: d(Γ^r/ell)/d(ρ_i - ρ_j) = K_r / ell².
+  // In 3D the same on each rolling row (t orthonormal), and pivoting has no spring.
   if (l.rolling)
-    k(dim, dim) = c.stiffness.k_r / (l.ell * l.ell);
+    k.bottomRightCorner(l.rolling_rows, l.rolling_rows)
+        .diagonal()
+        .setConstant(c.stiffness.k_r / (l.ell * l.ell));
   return k;
 }
 
@@ -191,6 +212,18 @@ DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<di
     };
     k.block(o.ri, 0, rot_dim<dim>, m) = moment_change(g.branch_i().norm());
     k.block(o.rj, 0, rot_dim<dim>, m) = moment_change(g.branch_j().norm());
+    // The 3D rolling moment turns with the contact as T does (the law transports δθ like T,
+    // docs/contact-law.md step 8): ΔΓ^r = -n (Γ^r.Δn) + ½ s (n x Γ^r), a couple +Γ^r on ρ_i's
+    // load, -Γ^r on ρ_j's. Force-free: no term in the translations or the strains.
+    if constexpr (dim == 3) {
+      if (l.rolling && !c.distant) {
+        const Vec<3> gamma = c.rolling_moment;
+        const DynMatrix d_gamma =
+            (-n * (gamma.transpose() * dn) + 0.5 * Vec<3>(n.cross(gamma)) * s) / l.ell;
+        k.block(o.ri, 0, 3, m) += d_gamma;
+        k.block(o.rj, 0, 3, m) -= d_gamma;
+      }
+    }
   }
   // Omega Sigma_ab = sum (F_a r_b + F_b r_a) / 2 (the loads E(r)ᵀ F, E linear in r): the
   // change ΔF_a r_b + F_a w_b, symmetrised, r moving with the centres (Δr = w).
@@ -221,7 +254,8 @@ Eigen::Matrix<double, 6, 1> divalent_rolling_mode(const Vec<3>& p1, const Vec<3>
   template DynMatrix contact_stiffness<d>(const RigidityContact<d>&, const RigidityLayout<d>&);    \
   template DynMatrix constitutive_block<d>(const RigidityContact<d>&, const RigidityLayout<d>&);   \
   template DynVector contact_loads<d>(const RigidityContact<d>&, const RigidityLayout<d>&);        \
-  template DynMatrix geometric_block<d>(const RigidityContact<d>&, const RigidityLayout<d>&);
+  template DynMatrix geometric_block<d>(const RigidityContact<d>&, const RigidityLayout<d>&);      \
+  template Eigen::Matrix<double, rot_dim<d>, d - 1> rolling_basis<d>(const Vec<d>&);
 GRANPACK_INSTANTIATE(2)
 GRANPACK_INSTANTIATE(3)
 #undef GRANPACK_INSTANTIATE

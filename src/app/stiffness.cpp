@@ -105,12 +105,6 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, 1.5);
   const ContactLaw<dim>& law = v.law;
   const bool cohesive = law.cohesion.has_value();
-  // [GRC] App. A is a 2D construction; in 3D the rolling moment turns with the contact and
-  // the divalent-grain modes change with distant pairs: refuse rather than get them wrong.
-  if (dim == 3 && (law.cohesion || law.rolling))
-    throw NotImplemented(opt.file.string() +
-                         ": the stiffness of 3D packings with cohesion or rolling "
-                         "resistance is not implemented (2D only, [GRC] App. A)");
   // With cohesion the whole interaction network is analysed ([GRC] sec. III): a contact at
   // h = h0 carries no force but has the stiffness K_N.
   if (cohesive)
@@ -195,7 +189,8 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   // Counts, eq. (19)-(20).
   const std::int64_t n_star = s.numbering.grains;
   const std::int64_t other = chol.null_pivots > 0 ? std::int64_t(floppy.size()) : 0;
-  const std::int64_t k = dim + std::int64_t(km.divalent.size()) + other + strain_mechanisms;
+  const std::int64_t k = dim + std::int64_t(km.divalent.size()) + std::int64_t(km.pivoting.size()) +
+                         other + strain_mechanisms;
   const std::int64_t nf = s.dof();
   const std::int64_t h = s.rows + k - nf;
   const Hyperstaticity eq37 =
@@ -225,6 +220,7 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   j["mechanisms"] = k;
   j["trivial_mechanisms"] = dim;
   j["divalent_mechanisms"] = std::int64_t(km.divalent.size());
+  j["pivoting_mechanisms"] = std::int64_t(km.pivoting.size());
   j["other_mechanisms"] = other;
   j["null_pivots"] = chol.null_pivots;
   j["strain_mechanisms"] = strain_mechanisms;
@@ -233,6 +229,12 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   for (const auto& d : km.divalent)
     div.push_back({{"grain", d.grain}, {"neighbours", {d.neighbours[0], d.neighbours[1]}}});
   j["divalent_grains"] = div;
+  nlohmann::json piv = nlohmann::json::array();
+  for (const auto& d : km.pivoting)
+    piv.push_back(
+        {{"grain", d.grain}, {"neighbour", d.neighbours[0]}, {"grains", d.neighbours[1]}});
+  j["pivoting_grains"] = piv;
+  j["pivoting_mode_residual"] = km.pivoting_residual;
   j["other_mechanism_grains"] = floppy;
   j["rattler_grains"] = rattlers;
   j["divalent_mode_residual"] = km.divalent_residual;
@@ -241,9 +243,10 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   j["smallest_eigenvalues_over_mean_kn"] = eig;
   j["H"] = h;
   j["H_over_Nf"] = double(h) / double(n_star * g);
-  // Eq. (37) is [AR]'s count for cohesionless backbones.
-  j["H_eq37"] = cohesive ? nlohmann::json() : nlohmann::json(eq37.degree);
-  j["H_over_Nf_eq37"] = cohesive ? nlohmann::json() : nlohmann::json(eq37.per_dof);
+  // Eq. (37) is [AR]'s count for backbones without cohesion or rolling resistance.
+  j["H_eq37"] = cohesive || s.layout.rolling ? nlohmann::json() : nlohmann::json(eq37.degree);
+  j["H_over_Nf_eq37"] =
+      cohesive || s.layout.rolling ? nlohmann::json() : nlohmann::json(eq37.per_dof);
   j["isostatic"] = h == 0 && k == dim;
   j["positive_definite"] = positive_definite;
   j["rigid"] = rigid;
@@ -344,6 +347,7 @@ std::string table(const nlohmann::json& j) {
                                           j["prescribed_stress_source"].get<std::string>() + ")"},
       {"mechanisms k", count(j["mechanisms"]) + " = " + count(j["trivial_mechanisms"]) +
                            " trivial + " + count(j["divalent_mechanisms"]) + " divalent + " +
+                           count(j["pivoting_mechanisms"]) + " pivoting + " +
                            count(j["other_mechanisms"]) + " other + " +
                            count(j["strain_mechanisms"]) + " strain"},
       {"rattlers (not in G), their dofs",
@@ -352,9 +356,10 @@ std::string table(const nlohmann::json& j) {
                 ? " (" + count(j["detached_grains"]) + " in " + count(j["detached_clusters"]) +
                       " detached clusters)"
                 : std::string())},
-      {"divalent modes |K1 v|/(<k_n>|v|)", fixed(j["divalent_mode_residual"])},
+      {"divalent, pivoting |K1 v|/(<k_n>|v|)",
+       fixed(j["divalent_mode_residual"]) + ", " + fixed(j["pivoting_mode_residual"])},
       {"smallest eig. (stiffened)/<k_n>", eig},
-      {"rigid (only trivial/divalent modes)", yes_no(j["rigid"])},
+      {"rigid (only trivial/divalent/pivoting)", yes_no(j["rigid"])},
       {"K(1) positive definite (stiffened)", yes_no(j["positive_definite"]) + " (negative pivots " +
                                                  count(j["K1_negative_pivots"]) + ")"},
       {"K(1)+K(2) positive definite", yes_no(j["K_positive_definite"])},

@@ -48,6 +48,40 @@ PetscErrorCode apply_inverse(Mat shell, ::Vec x, ::Vec y) {
   return 0;
 }
 
+/// |K(1) V| / (<k_n> |V|) with the border rows, V the sum of the known modes (0 if none;
+/// nested parts share grains, so the modes are added): they must be null vectors of G, so a
+/// few 1e-16 is expected. Collective.
+template <int dim>
+double known_mode_residual(
+    StiffnessSystem<dim>& s,
+    const std::vector<std::pair<std::int64_t, Eigen::Matrix<double, 6, 1>>>& known) {
+  const auto& num = s.numbering;
+  OwnedVec modes;
+  GRANPACK_PETSC(MatCreateVecs(s.k1.uu, modes.address(), nullptr));
+  GRANPACK_PETSC(VecSet(modes, 0.0));
+  for (const auto& [index, v] : known)
+    if (index >= num.first && index < num.first + num.local) {
+      const auto rows = grain_rows(index, s.grain_dofs());
+      GRANPACK_PETSC(VecSetValues(modes, s.grain_dofs(), rows.data(), v.data(), ADD_VALUES));
+    }
+  GRANPACK_PETSC(VecAssemblyBegin(modes));
+  GRANPACK_PETSC(VecAssemblyEnd(modes));
+  if (known.empty()) // the same on every rank: the records are everyone's
+    return 0;
+  OwnedVec image;
+  GRANPACK_PETSC(VecDuplicate(modes, image.address()));
+  GRANPACK_PETSC(MatMult(s.k1.uu, modes, image));
+  PetscReal r = 0, m = 0, border = 0;
+  GRANPACK_PETSC(VecNorm(image, NORM_2, &r));
+  GRANPACK_PETSC(VecNorm(modes, NORM_2, &m));
+  for (int a = 0; a < voigt_size<dim>; ++a) {
+    PetscScalar dot = 0;
+    GRANPACK_PETSC(VecDot(s.k1.eu[a], modes, &dot));
+    border += dot * dot;
+  }
+  return std::sqrt(r * r + border) / (s.mean_kn * m);
+}
+
 } // namespace
 
 template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>& s) {
@@ -57,9 +91,6 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
   const double kbar = s.mean_kn;
 
   // Rolling modes of the divalent grains (records come in pairs per grain, sorted).
-  OwnedVec modes;
-  GRANPACK_PETSC(MatCreateVecs(s.k1.uu, modes.address(), nullptr));
-  GRANPACK_PETSC(VecSet(modes, 0.0));
   std::vector<std::pair<std::int64_t, Eigen::Matrix<double, 6, 1>>> rolling;
   std::set<std::int64_t> divalent_index;
   for (std::size_t k = 0; k + 1 < s.divalent.size(); k += 2) {
@@ -76,28 +107,21 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
     rolling.emplace_back(index, divalent_rolling_mode(p1, p2, s.layout.ell));
   }
   GRANPACK_CHECK(s.divalent.size() % 2 == 0, "stiffness: odd number of divalent contact records");
-  for (const auto& [index, v] : rolling)
-    if (index >= num.first && index < num.first + num.local) {
-      const auto rows = grain_rows(index, g);
-      GRANPACK_PETSC(VecSetValues(modes, g, rows.data(), v.data(), INSERT_VALUES));
+  km.divalent_residual = known_mode_residual(s, rolling);
+  // Pivoting of the parts hanging from one contact (3D, rolling resistance): each mode spans
+  // its part's grains, so it is checked as one vector and stiffened where the part hinges: a
+  // pivoting spring <k_n> (n.(ρ_a - ρ_b))² on the hinge contact, whose entries exist. As G v
+  // = 0, K(1)'s response to the strains is unchanged (the spring only fixes the free angle).
+  std::vector<std::pair<std::int64_t, Eigen::Matrix<double, 6, 1>>> pivots;
+  for (const auto& c : s.pivoting) {
+    km.pivoting.push_back({c.grain, {c.neighbour, std::int64_t(c.mode.size())}});
+    for (const auto& [id, v] : c.mode) {
+      divalent_index.insert(num.index.at(id)); // not to be pinned either
+      pivots.emplace_back(num.index.at(id), v);
     }
-  GRANPACK_PETSC(VecAssemblyBegin(modes));
-  GRANPACK_PETSC(VecAssemblyEnd(modes));
-  if (!rolling.empty()) {
-    OwnedVec image;
-    GRANPACK_PETSC(VecDuplicate(modes, image.address()));
-    GRANPACK_PETSC(MatMult(s.k1.uu, modes, image));
-    PetscReal r = 0, m = 0, border = 0;
-    GRANPACK_PETSC(VecNorm(image, NORM_2, &r));
-    GRANPACK_PETSC(VecNorm(modes, NORM_2, &m));
-    for (int a = 0; a < voigt_size<dim>; ++a) {
-      PetscScalar dot = 0;
-      GRANPACK_PETSC(VecDot(s.k1.eu[a], modes, &dot));
-      border += dot * dot;
-    }
-    km.divalent_residual = std::sqrt(r * r + border) / (kbar * m);
   }
-  // Stiffen: <k_n> v vᵀ on each divalent grain's diagonal block (rows owned here).
+  km.pivoting_residual = known_mode_residual(s, pivots);
+  // Stiffen: <k_n> v vᵀ on each divalent or pivoting grain's diagonal block (rows owned here).
   std::vector<BorderedMatrix<dim>*> matrices = {&s.k1, &s.k};
   if (s.has_gram())
     matrices.push_back(&s.gram);
@@ -108,6 +132,18 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
         const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> vv = kbar * v * v.transpose();
         GRANPACK_PETSC(MatSetValues(b->uu, g, rows.data(), g, rows.data(), vv.data(), ADD_VALUES));
       }
+    for (const auto& c : s.pivoting) {
+      const std::int64_t a = num.index.at(c.grain), n = num.index.at(c.neighbour);
+      if (a < num.first || a >= num.first + num.local)
+        continue; // added once, by the hinge grain's owner
+      std::vector<PetscInt> rows(6);
+      for (int d = 0; d < 3; ++d)
+        rows[d] = PetscInt(a * g + 3 + d), rows[3 + d] = PetscInt(n * g + 3 + d);
+      Eigen::Matrix<double, 6, 1> p;
+      p << c.normal, -c.normal;
+      const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> pp = kbar * p * p.transpose();
+      GRANPACK_PETSC(MatSetValues(b->uu, 6, rows.data(), 6, rows.data(), pp.data(), ADD_VALUES));
+    }
     GRANPACK_PETSC(MatAssemblyBegin(b->uu, MAT_FINAL_ASSEMBLY));
     GRANPACK_PETSC(MatAssemblyEnd(b->uu, MAT_FINAL_ASSEMBLY));
   }

@@ -95,8 +95,12 @@ RigidityContact<dim> make_rigidity_contact(const PackingView<dim>& v, const Cont
   ContactState<dim> state;
   state.normal_force = c.normal_force;
   rc.stiffness = law.stiffness(rc.geometry, state);
-  if (layout.rolling && !c.distant)
+  if (layout.rolling && !c.distant) {
     rc.rolling_moment = -rc.stiffness.k_r * c.rolling;
+    // In 3D δθ is tangent up to the rounding of its transport; the rows see its rolling part.
+    if constexpr (dim == 3)
+      rc.rolling_moment -= rc.rolling_moment.dot(rc.geometry.normal) * rc.geometry.normal;
+  }
   return rc;
 }
 
@@ -177,6 +181,7 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
   double sum_kn = 0;
   std::int64_t touching = 0;
   std::vector<DivalentContact> divalent;
+  std::vector<NetworkEdge> network;
   std::vector<PetscInt> rows(2 * g), cols(per_row);
   PetscInt row = first_row;
   // A failure here (a contact without overlap, a grain missing from the numbering) is seen by
@@ -224,9 +229,23 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
       GRANPACK_PETSC(VecSetValues(s.f, rows_c, grow_idx.data(), fc.data(), INSERT_VALUES));
       row += rows_c;
 
-      // Divalent grains ([AR] fig. 14): their two contact points define the rolling mode.
+      // The interaction graph (3D, rolling resistance), for the pivoting parts.
       if constexpr (dim == 3) {
-        if (s.layout.rotations) {
+        if (s.layout.rolling) {
+          const Vec<3> rij = rc.geometry.distance * rc.geometry.normal, bi = rc.geometry.branch_i();
+          network.push_back({p.id[c->i],
+                             p.id[c->j],
+                             {rij[0], rij[1], rij[2]},
+                             {bi[0], bi[1], bi[2]},
+                             c->distant ? 1 : 0});
+        }
+      }
+      // Divalent grains ([AR] fig. 14): their two contact points define the rolling mode.
+      // Not with rolling resistance (the mode rolls on both contacts: the springs resist it)
+      // nor with cohesion (a distant pair counts as an interaction but moves with the mode):
+      // there free rollings are found, as any mechanism, by the factorisation.
+      if constexpr (dim == 3) {
+        if (s.layout.rotations && !s.layout.rolling && !law.cohesion) {
           if (std::lround(v.backbone.counts[c->i]) == 2)
             divalent.push_back({p.id[c->i],
                                 p.id[c->j],
@@ -253,10 +272,15 @@ StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const Contact
       global_sum(v.world, sum_kn) / std::max<std::int64_t>(1, global_sum(v.world, touching));
 
   // Every rank gets every divalent record (a few per cent of the grains, 40 bytes each).
-  s.divalent = allgather_concat(v.world, divalent);
-  std::sort(s.divalent.begin(), s.divalent.end(), [](const auto& a, const auto& b) {
+  const auto by_grain = [](const auto& a, const auto& b) {
     return a.grain != b.grain ? a.grain < b.grain : a.neighbour < b.neighbour;
-  });
+  };
+  s.divalent = allgather_concat(v.world, divalent);
+  std::sort(s.divalent.begin(), s.divalent.end(), by_grain);
+  // The whole interaction graph on every rank (3D with rolling resistance only: the cohesive
+  // packings are small; 72 bytes per interaction), so that every rank finds the same parts.
+  if (s.layout.rolling)
+    s.pivoting = pivoting_clusters(allgather_concat(v.world, network), s.layout.ell);
   s.assembly_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;

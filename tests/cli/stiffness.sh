@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # End to end: `granpack stiffness` on 2 ranks on the Hertz FCC crystal (run here from the CI
 # deck): exit 0, the table, every required JSON key with the crystal's values (only the 3
-# trivial mechanisms, H from eq. 19, positive definite); bad arguments and files exit 2; a 3D
-# cohesive packing is refused with exit 3 ([GRC] App. A is implemented in 2D).
+# trivial mechanisms, H from eq. 19, positive definite); bad arguments and files exit 2; the
+# same crystal with cohesion (3D, friction, no rolling resistance) is analysed as an
+# interaction network: rigid, 3 rows per contact, H by [GRC] eq. (19), a cubic tensor.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
@@ -31,12 +32,22 @@ PY
 check_refused "missing file" 2 "does_not_exist.h5" "$scratch/m.txt" "$GRANPACK_EXE" stiffness "$scratch/does_not_exist.h5"
 check_exit "bad --null-pivot" 2 "$scratch/b.txt" "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --null-pivot 0
 
-# 3D with cohesion: refused (exit 3, not implemented), naming the file; nothing written.
+# 3D with cohesion (friction, no rolling resistance): the interaction network of the crystal.
 sed -e 's/^friction = .*/friction = 0.3\ncohesion_force = 1.0e-3\ncohesion_range = 1.0e-6/' \
   "$GRANPACK_SOURCE_DIR/jobs/decks/ci/fcc_hertz.toml" > "$scratch/fcc_cohesive.toml"
 check_exit "cohesive fcc run" 0 "$scratch/runc.txt" granpack_on 1 run "$scratch/fcc_cohesive.toml" -o "$scratch/fcc_c" -q
-check_refused "3D cohesive" 3 "fcc_c/final.h5: the stiffness of 3D packings with cohesion" "$scratch/c.txt" \
+check_exit "3D cohesive stiffness" 0 "$scratch/c.txt" \
   "$GRANPACK_EXE" stiffness "$scratch/fcc_c/final.h5" --json "$scratch/c.json"
-check "3D cohesive: no JSON written" "[ ! -e '$scratch/c.json' ]"
+check "3D cohesive: rigid crystal, 3 rows per contact, H by eq. (19), cubic tensor" \
+  "/usr/bin/python3 -c \"
+import json, sys
+j = json.load(open('$scratch/c.json'))
+c = j['elastic_tensor']['c']
+ok = (j['network'] == 'interactions' and j['H_relation'] == 'GRC eq. 19' and j['mechanisms'] == 3
+      and j['pivoting_mechanisms'] == 0 and j['rigid'] and j['positive_definite']
+      and j['G_rows'] == 3 * j['backbone_contacts'] and j['H'] == j['G_rows'] + 3 - j['N_f']
+      and abs(c[0][0] - c[2][2]) < 1e-9 * c[0][0] and abs(c[3][3] - c[5][5]) < 1e-9 * c[0][0])
+sys.exit(0 if ok else 1)
+\""
 
 checks_done stiffness.sh

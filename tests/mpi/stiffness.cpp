@@ -8,6 +8,7 @@
 #include <mpi.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -82,6 +83,7 @@ quench_interval = 20000
 
 struct Dense {
   std::int64_t mechanisms = 0, rows = 0, dof = 0;
+  std::int64_t monovalent = 0;  ///< grains with exactly one contact in touch
   std::int64_t k1_negative = 0; ///< eigenvalues below -1e-9 <k_n> of the pinned, stiffened K(1)_uu
   double bulk_k1 = 0, bulk = 0, smallest_kept_singular = 0, largest_dropped_singular = 0;
   Eigen::MatrixXd tensor_k1, tensor; ///< c_IJ, every strain (Voigt), K(1) and K(1) + K(2)
@@ -154,6 +156,14 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
   }
   kbar /= double(touching);
   Dense out;
+  // Grains with exactly one contact in touch: with rolling resistance in 3D each pivots freely.
+  {
+    std::vector<int> touching_contacts(next, 0);
+    for (std::size_t c = 0; c < cs.size(); ++c)
+      if (!cs[c].distant)
+        ++touching_contacts[ends[c].first], ++touching_contacts[ends[c].second];
+    out.monovalent = std::count(touching_contacts.begin(), touching_contacts.end(), 1);
+  }
   out.rows = G.rows();
   out.dof = nf;
   Eigen::BDCSVD<Eigen::MatrixXd> svd(G);
@@ -202,6 +212,28 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
         EXPECT_EQ(pts.size(), 2u);
         const auto vmode = divalent_rolling_mode(pts[0], pts[1], l.ell);
         m.block(gi * g, gi * g, 6, 6) += kbar * vmode * vmode.transpose();
+      }
+    }
+    // Pivoting parts (3D, rolling resistance): a pivoting spring <k_n> (n.(ρ_a - ρ_b))² on
+    // each hinge contact, n its normal from the hinge grain a to its neighbour b.
+    for (const auto& d : j["pivoting_grains"]) {
+      if constexpr (dim == 3) {
+        const int ga = index.at(d["grain"].get<GlobalId>()),
+                  gb = index.at(d["neighbour"].get<GlobalId>());
+        int found = 0;
+        for (std::size_t c = 0; c < cs.size(); ++c)
+          if (!cs[c].distant && ((ends[c].first == ga && ends[c].second == gb) ||
+                                 (ends[c].first == gb && ends[c].second == ga))) {
+            ++found;
+            const granpack::Vec<3> n = ends[c].first == ga
+                                           ? cs[c].geometry.normal
+                                           : granpack::Vec<3>(-cs[c].geometry.normal);
+            Eigen::VectorXd p = Eigen::VectorXd::Zero(m.rows());
+            p.segment<3>(ga * g + 3) = n;
+            p.segment<3>(gb * g + 3) = -n;
+            m += kbar * p * p.transpose();
+          }
+        EXPECT_EQ(found, 1);
       }
     }
     const int pin = index.at(j["pinned_grain"].get<GlobalId>());
@@ -260,6 +292,11 @@ void expect_matches_dense(const std::string& tag, const std::filesystem::path& f
   EXPECT_EQ(json["mechanisms"].get<std::int64_t>(), d.mechanisms)
       << tag << ", threshold " << threshold;
   EXPECT_EQ(json["H"].get<std::int64_t>(), d.rows + d.mechanisms - d.dof);
+  // Every grain with one contact in touch hangs from it (larger parts may hang too).
+  if (dim == 3 && json["rolling_rows"].get<bool>())
+    EXPECT_GE(json["pivoting_mechanisms"].get<std::int64_t>(), d.monovalent) << tag;
+  else
+    EXPECT_EQ(json["pivoting_mechanisms"].get<std::int64_t>(), 0) << tag;
   // Measured with distant pairs; without, K(1) = ᵀG 𝒦 G is positive semi-definite, which the
   // dense spectrum confirms.
   EXPECT_EQ(json["K1_negative_pivots"].get<std::int64_t>(), d.k1_negative) << tag;
@@ -393,11 +430,12 @@ namespace {
 /// `variant`: "rr" (mu = 0.5 with rolling resistance, equilibrated), "mid" (the same stopped
 /// after 4000 steps, mid-compression: distant pairs and an unstable K(1)), "norr" (mu = 0.5,
 /// no rolling resistance), "mu0" (frictionless).
-std::string cohesive_deck(const std::string& variant) {
+/// In 3D (dim = 3) the same transposed to 100 spheres: phi_I = 0.35, P = 0.01 F0 / a².
+std::string cohesive_deck(const std::string& variant, int dim = 2) {
   const bool rolling = variant == "rr" || variant == "mid";
   return R"([sample]
-dimension = 2
-n = 80
+dimension = )" +
+         std::to_string(dim) + (dim == 2 ? "\nn = 80\n" : "\nn = 100\n") + R"(
 diameter = 1.0e-3
 distribution = "uniform"
 min_diameter_ratio = 0.5
@@ -424,14 +462,15 @@ log_every = 1000000
 
 [[stage]]
 kind = "random"
-phi = 0.52
-
+)" + std::string(dim == 2 ? "phi = 0.52\n" : "phi = 0.35\n") +
+         R"(
 [[stage]]
 kind = "compress"
-pressure = 10.0
 cell_mass = 0.3
-cell_mass_per_length = true
-tolerance_force = 1e-3
+)" +
+         std::string(dim == 2 ? "pressure = 10.0\ncell_mass_per_length = true\n"
+                              : "pressure = 1.0e4\n") +
+         R"(tolerance_force = 1e-3
 tolerance_moment = 1e-3
 tolerance_stress = 1e-3
 tolerance_kinetic = 1e-6
@@ -494,6 +533,50 @@ TEST(Stiffness, CohesiveWithoutRollingMatchesDense) {
     if (rank_of() == 0)
       expect_matches_dense<2>("cohesive " + variant, file, j, 1e-4);
   }
+}
+
+TEST(Stiffness, Cohesive3DRRMatchesDense) {
+  // 3D, rolling resistance: 5 rows per contact (δu, two rolling rows), 1 per distant pair;
+  // pivoting is free, so each part hanging from one contact (a grain with one contact, a
+  // dimer...) keeps one mechanism (removed like the divalent rolling of [AR]); the rest is
+  // rigid here, and the whole tensor equals the dense Schur complement.
+  std::filesystem::path file;
+  file = run_text_deck("stiffness_cohesive3d_rr", cohesive_deck("rr", 3));
+  const auto j = run_stiffness(file);
+  EXPECT_EQ(j["network"], "interactions");
+  EXPECT_EQ(j["H_relation"], "GRC eq. 21");
+  EXPECT_EQ(j["G_rows"].get<std::int64_t>(), 5 * (j["backbone_contacts"].get<std::int64_t>() -
+                                                  j["distant_pairs"].get<std::int64_t>()) +
+                                                 j["distant_pairs"].get<std::int64_t>());
+  EXPECT_GT(j["pivoting_mechanisms"].get<std::int64_t>(), 0); // the case this deck is chosen for
+  EXPECT_LT(j["pivoting_mode_residual"].get<double>(), 1e-12);
+  EXPECT_EQ(j["divalent_mechanisms"], 0);
+  EXPECT_TRUE(j["rigid"].get<bool>());
+  EXPECT_TRUE(j["moduli_valid"].get<bool>());
+  EXPECT_LT(j["virtual_work_residual"].get<double>(), 2e-2); // criteria 1e-3 F0 per grain
+  std::printf("[ stiffness ] cohesive 3D rr: k = %lld (pivoting %lld, other %lld), H = %lld, "
+              "B = %.6g Pa, virtual work %.2g\n",
+              (long long)j["mechanisms"].get<std::int64_t>(),
+              (long long)j["pivoting_mechanisms"].get<std::int64_t>(),
+              (long long)j["other_mechanisms"].get<std::int64_t>(),
+              (long long)j["H"].get<std::int64_t>(), j["bulk_modulus"].get<double>(),
+              j["virtual_work_residual"].get<double>());
+  if (rank_of() == 0)
+    expect_matches_dense<3>("cohesive 3D rr", file, j, 1e-4);
+}
+
+TEST(Stiffness, Cohesive3DDistantPairsMatchDense) {
+  // Mid-compression in 3D: distant pairs (normal row, -F0/D0) make K(1) indefinite; k, H and
+  // the negative eigenvalue count of K(1) equal the dense reference's.
+  const auto file = run_text_deck("stiffness_cohesive3d_mid", cohesive_deck("mid", 3));
+  const auto j = run_stiffness(file);
+  ASSERT_GT(j["distant_pairs"].get<std::int64_t>(), 0);
+  std::printf("[ stiffness ] cohesive 3D mid: %lld distant pairs, K(1) negative %lld, k = %lld\n",
+              (long long)j["distant_pairs"].get<std::int64_t>(),
+              (long long)j["K1_negative_pivots"].get<std::int64_t>(),
+              (long long)j["mechanisms"].get<std::int64_t>());
+  if (rank_of() == 0)
+    expect_matches_dense<3>("cohesive 3D mid", file, j, 1e-4);
 }
 
 TEST(Stiffness, CohesiveHexCrystalAtZeroPressure) {

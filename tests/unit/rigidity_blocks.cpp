@@ -78,8 +78,11 @@ template <int dim> struct Fixture {
     if (!layout.rotations)
       return out;
     // Rolling: Γ^r on j = Γ0 - K_r (θ_j - θ_i) (eq. 9 with the sign of rolling_resistance.h).
-    if (layout.rolling)
+    // In 3D (below) Γ0 is transported and the increment loses its pivoting part.
+    if (layout.rolling && dim == 2)
       out.rolling_moment = RotVec<dim>::Constant(2e-6) - law.rolling->k_r * (th_j - th_i);
+    if (layout.rolling && dim == 3)
+      out.rolling_moment = reference_rolling_moment(out.geometry.normal);
     if (x.isZero(0)) { // the reference tangential force: 0.2 N along a tangent
       Vec<dim> t = Vec<dim>::Zero();
       t[0] = 1.0;
@@ -97,7 +100,29 @@ template <int dim> struct Fixture {
     const Vec<dim> du = relative_displacement_map(c, layout) * x;
     t += c.stiffness.k_t * (du - du.dot(n1) * n1);
     out.tangential_force = t;
+    // 3D rolling, as ContactLaw::force (step 8): the stored δθ = -Γ0 / K_r turns with the
+    // contact like T, then gains (θ_j - θ_i) without its pivoting part about the new n.
+    if constexpr (dim == 3) {
+      if (layout.rolling) {
+        const RotVec<3> d_theta = (th_j - th_i) - n1.dot(th_j - th_i) * n1;
+        out.rolling_moment =
+            transport_tangential<3>(c.rolling_moment, theta, n1) - law.rolling->k_r * d_theta;
+      }
+    }
     return out;
+  }
+
+  /// Γ0 (3D): 2e-4 N m along a tangent other than T's, below μ_r N^e = 1e-3 N m. Large
+  /// enough that its turning (K(2): ~Γ0 / (r ell) ~ 400 N/m) is far above the tolerance
+  /// 1e-6 k_n ~ 5 N/m: a wrong 3D rolling term in K(2) fails.
+  static RotVec<dim> reference_rolling_moment(const Vec<dim>& n) {
+    RotVec<dim> t = RotVec<dim>::Zero();
+    if constexpr (dim == 3) {
+      t = Vec<3>(0.0, 1.0, 0.0);
+      t -= t.dot(n) * n;
+      t = 2e-4 * t.normalized();
+    }
+    return t;
   }
 
   /// Generalised loads ᵀG f of the contact after the motion x.
@@ -212,6 +237,21 @@ TEST(RigidityBlocks, Derivative2DCohesiveFrictionless) {
 TEST(RigidityBlocks, Derivative2DDistantPair) {
   check_derivative<2>(Case{true, true, true, true});
 }
+TEST(RigidityBlocks, Derivative3DRolling) {
+  check_derivative<3>(Case{true, false, true, false});
+}
+TEST(RigidityBlocks, Derivative3DCohesiveRolling) {
+  check_derivative<3>(Case{true, true, true, false});
+}
+TEST(RigidityBlocks, Derivative3DCohesiveRollingDiagonalStrainsOnly) {
+  check_derivative<3>(Case{true, true, true, false, false});
+}
+TEST(RigidityBlocks, Derivative3DCohesiveFrictionless) {
+  check_derivative<3>(Case{false, true, false, false});
+}
+TEST(RigidityBlocks, Derivative3DDistantPairRolling) {
+  check_derivative<3>(Case{true, true, true, true}); // RR law, but a gap: the normal row only
+}
 TEST(RigidityBlocks, Derivative3DDistantPair) {
   check_derivative<3>(Case{true, true, false, true});
 }
@@ -283,4 +323,31 @@ TEST(RigidityBlocks, DivalentRollingModeIsNull) {
   DynVector y = DynVector::Zero(l.local_size());
   y.segment<3>(3) = v.tail<3>();
   EXPECT_GT((rigidity_rows(a, l) * y).norm(), 1e-3);
+}
+
+TEST(RigidityBlocks, RollingRows3DLeavePivotingFree) {
+  // 3 + 2 rows: δu, then the rolling components of ρ_i - ρ_j on an orthonormal tangent basis;
+  // a pivoting of either grain about n moves no rolling row, a rolling rotation does.
+  Fixture<3> f(Case{true, true, true, false});
+  const Vec<3>& n = f.c.geometry.normal;
+  const DynMatrix rows = rigidity_rows(f.c, f.layout);
+  ASSERT_EQ(rows.rows(), 5);
+  ASSERT_EQ(f.layout.rows_per_contact(), 5);
+  const auto t = rolling_basis<3>(n);
+  EXPECT_NEAR((t.transpose() * t - Eigen::Matrix2d::Identity()).cwiseAbs().maxCoeff(), 0, 1e-15);
+  EXPECT_NEAR((t.transpose() * n).cwiseAbs().maxCoeff(), 0, 1e-15);
+  for (int grain = 0; grain < 2; ++grain) {
+    DynVector x = DynVector::Zero(f.layout.local_size());
+    x.segment<3>(3 + 6 * grain) = n;
+    EXPECT_NEAR(rows.bottomRows(2).operator*(x).norm(), 0, 1e-15);
+    x.segment<3>(3 + 6 * grain) = t.col(0);
+    EXPECT_NEAR(rows.bottomRows(2).operator*(x).norm(), 1, 1e-15);
+  }
+  // f: Γ0's components / ell; 𝒦: K_r / ell² on both rolling rows.
+  const DynVector force = contact_force_vector(f.c, f.layout);
+  EXPECT_NEAR((t * force.tail(2) * f.layout.ell - f.c.rolling_moment).norm(), 0, 1e-18);
+  const DynMatrix k = contact_stiffness(f.c, f.layout);
+  EXPECT_NEAR(k(3, 3), 1e-3 / (f.layout.ell * f.layout.ell), 1e-9);
+  EXPECT_NEAR(k(4, 4), 1e-3 / (f.layout.ell * f.layout.ell), 1e-9);
+  EXPECT_EQ(k(3, 4), 0.0);
 }

@@ -19,11 +19,14 @@
 // delta_u = ũ_i + θ_i x b_i - ũ_j - θ_j x b_j + eps.r_ij is the approach of i's contact point
 // to j's; the contact force F = N n + T acts on j (from i); loads F_ext = ᵀG f.
 //
-// [GRC] App. A adds two kinds of rows (2D). Rolling resistance: one row per contact,
-// ρ_i - ρ_j = ell (θ_i - θ_j), conjugate to Γ^r / ell (Γ^r the rolling moment on j, eq. 9),
-// stiffness K_r / ell². Distant attractions: the normal row only, whatever the friction,
-// with the negative stiffness dN^a/dh = -F0/D0. With cohesion N is the static normal force
-// N^e + N^a (N^a = -F0 in contact), the force the geometry turns in K(2).
+// [GRC] App. A adds two kinds of rows. Rolling resistance: dim - 1 rows per contact, the
+// rolling part of ρ_i - ρ_j = ell (θ_i - θ_j): the row itself in 2D, its components on a
+// tangent basis (t1, t2) of n in 3D, where pivoting (about n) is free as in the contact law
+// (docs/contact-law.md step 8). Conjugate to Γ^r / ell (Γ^r the rolling moment on j, eq. 9),
+// stiffness K_r / ell². In 3D Γ^r turns with the contact like T, which K(2) carries.
+// Distant attractions: the normal row only, whatever the friction, with the negative
+// stiffness dN^a/dh = -F0/D0. With cohesion N is the static normal force N^e + N^a
+// (N^a = -F0 in contact), the force the geometry turns in K(2).
 #include <Eigen/Core>
 #include <cmath>
 
@@ -38,7 +41,7 @@ template <int dim> struct RigidityContact {
   PairGeometry<dim> geometry; ///< from r_ij and the radii (make_pair_geometry)
   double normal_force = 0;    ///< static N = N^e + N^a (> 0: repulsive); N^e without cohesion
   Vec<dim> tangential_force = Vec<dim>::Zero();     ///< T, on j, global frame (0 if frictionless)
-  RotVec<dim> rolling_moment = RotVec<dim>::Zero(); ///< Γ^r on j, elastic: -K_r δθ (2D, RR)
+  RotVec<dim> rolling_moment = RotVec<dim>::Zero(); ///< Γ^r on j, elastic: -K_r δθ (RR)
   bool distant = false;                             ///< cohesive pair across a gap: one normal row
   ContactStiffness stiffness; ///< from ContactLaw::stiffness(): the dynamics' law
 };
@@ -46,7 +49,7 @@ template <int dim> struct RigidityContact {
 /// Unknown layout and scales of one problem.
 template <int dim> struct RigidityLayout {
   bool rotations = true;            ///< false: frictionless, translations only
-  bool rolling = false;             ///< rolling-resistance rows ([GRC] eq. 21; 2D, with rotations)
+  bool rolling = false;             ///< rolling-resistance rows ([GRC] eq. 21; with rotations)
   double ell = 1;                   ///< rotation length scale (m): rho = theta * ell
   Vec<dim> cell = Vec<dim>::Ones(); ///< L_alpha: e_alpha = eps_alpha L_alpha
   /// Strain unknowns: the dim diagonal ones of [AR] eq. (9) (false), or all voigt_size<dim>
@@ -61,12 +64,14 @@ template <int dim> struct RigidityLayout {
     return a == b ? cell[a] : std::sqrt(cell[a] * cell[b]);
   }
   int local_size() const { return 2 * grain_dofs() + strains(); }
-  /// Rows of G per contact: dim with friction (normal and tangential) plus one with rolling
-  /// resistance, 1 without friction; a distant pair has its normal row only.
+  /// Rolling rows of a contact: the rotations normal to n, 1 in 2D, 2 in 3D (pivoting free).
+  static constexpr int rolling_rows = dim - 1;
+  /// Rows of G per contact: dim with friction (normal and tangential) plus dim - 1 with
+  /// rolling resistance, 1 without friction; a distant pair has its normal row only.
   int rows_per_contact(bool distant = false) const {
     if (!rotations || distant)
       return 1;
-    return dim + (rolling ? 1 : 0);
+    return dim + (rolling ? rolling_rows : 0);
   }
 };
 
@@ -80,9 +85,14 @@ DynMatrix relative_displacement_map(const RigidityContact<dim>& c, const Rigidit
 
 /// G rows of the contact ([AR] eq. 11): delta_u itself with friction (dim rows, global
 /// frame), its normal part n . delta_u without or across a gap (1 row); with rolling
-/// resistance the row ρ_i - ρ_j follows.
+/// resistance the rows tᵀ(ρ_i - ρ_j) follow (rolling_basis).
 template <int dim>
 DynMatrix rigidity_rows(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
+
+/// The rot_dim x (dim - 1) basis t of the rolling rotations: 1 in 2D (the rotation about z),
+/// two unit vectors normal to n and to each other in 3D (chosen from n alone, so that every
+/// rank builds the same rows). t tᵀ is the projection that removes pivoting.
+template <int dim> Eigen::Matrix<double, rot_dim<dim>, dim - 1> rolling_basis(const Vec<dim>& n);
 
 /// The contact's force in G's row space: F = N n + T with friction (then Γ^r / ell with
 /// rolling resistance), N without or across a gap.
@@ -104,7 +114,8 @@ DynMatrix constitutive_block(const RigidityContact<dim>& c, const RigidityLayout
 /// when the geometry moves (rotation of n and of T, App. B eq. B1-B5; moving branch vectors
 /// and r_ij in the moments and in Omega Sigma). Not symmetric with friction. Derivation in
 /// docs/stiffness.md. The 2D rolling moment is a scalar that no geometry change turns: it
-/// adds nothing here.
+/// adds nothing there; in 3D Γ^r turns with the contact like T: ΔΓ^r = -n (Γ^r.Δn) + ½ s n x Γ^r
+/// on ρ_i / ell, its opposite on ρ_j (a couple: no force, no stress).
 template <int dim>
 DynMatrix geometric_block(const RigidityContact<dim>& c, const RigidityLayout<dim>& l);
 

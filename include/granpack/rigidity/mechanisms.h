@@ -8,7 +8,11 @@
 //   - one free rolling per divalent grain (3D, friction): its exact rolling vector v is
 //     checked to be null (K(1) v = 0) and stiffened by <k_n> v vᵀ, as [AR] attribute "some
 //     energy cost" to these motions; as G v = 0 the border K_eu v = 0 and the response to
-//     strains is unchanged.
+//     strains is unchanged;
+//   - with rolling resistance in 3D, one free pivoting per part of the network hanging from a
+//     single contact (analysis/pivoting_clusters.h; a grain with one contact is the smallest),
+//     checked the same way and stiffened by a pivoting spring on that contact; there the
+//     divalent modes are not null (they roll on both contacts) and are not removed.
 // MUMPS then reports the null pivots (unexpected mechanisms) and the inertia of the grain
 // block; SLEPc gives its smallest eigenvalues by shift-and-invert at 0 on the same factors;
 // the strain mechanisms are the null space of the Schur complement (condensation.h).
@@ -27,10 +31,15 @@ struct DivalentGrain {
 struct KnownMechanisms {
   std::vector<DivalentGrain> divalent;
   double divalent_residual = 0; ///< |K(1) V| / (<k_n> |V|), V the sum of the rolling modes
+  /// Parts hanging from one contact that pivot freely (3D, rolling resistance): the hinge
+  /// grain, then (neighbour across the hinge, number of grains in the part).
+  std::vector<DivalentGrain> pivoting;
+  double pivoting_residual = 0; ///< the same for the pivoting modes
   GlobalId pinned_grain = -1;
 };
 
-/// Checks and stiffens the divalent rolling modes and pins one grain, in both K(1) and K.
+/// Checks and stiffens the divalent rolling and pivoting modes and pins one grain, in both
+/// K(1) and K.
 /// Collective.
 template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>& s);
 

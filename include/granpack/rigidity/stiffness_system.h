@@ -17,6 +17,7 @@
 #include <array>
 #include <vector>
 
+#include "granpack/analysis/pivoting_clusters.h"
 #include "granpack/analysis/rigidity_blocks.h"
 #include "granpack/packing/packing_view.h"
 #include "granpack/rigidity/grain_numbering.h"
@@ -56,6 +57,9 @@ template <int dim> struct StiffnessSystem {
   BorderedMatrix<dim> gram;
   bool has_gram() const { return distant > 0; }
   std::vector<DivalentContact> divalent; ///< all ranks' records (3D with friction only)
+  /// The parts hanging from one contact, free to pivot (3D with rolling resistance; the same
+  /// on every rank): analysis/pivoting_clusters.h.
+  std::vector<PivotingCluster> pivoting;
   double assembly_seconds = 0;
 
   int grain_dofs() const { return layout.grain_dofs(); }
@@ -66,7 +70,7 @@ template <int dim> struct StiffnessSystem {
 
 /// Builds every matrix from the view's backbone contacts (on_backbone). `law` must be the
 /// dynamics' law at the file's state (friction, K_N, K_r as in force then); rolling rows are
-/// added when it has rolling resistance (2D).
+/// added when it has rolling resistance.
 /// Collective on v.world.
 template <int dim>
 StiffnessSystem<dim> assemble_stiffness(const PackingView<dim>& v, const ContactLaw<dim>& law);
