@@ -6,13 +6,6 @@
 
 namespace granpack {
 
-namespace {
-/// Volume of a grain of radius r: a disk per unit thickness in 2D, a sphere in 3D.
-template <int dim> double grain_volume(double r) {
-  return dim == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
-}
-} // namespace
-
 template <int dim>
 NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<dim>& p,
                                    const ContactStore<dim>& contacts, const ContactLaw<dim>& law) {
@@ -52,6 +45,7 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
     f.end[k] = f.start[k] + r;
     f.normal_force[k] = force;
     f.tangential_magnitude[k] = s.tangential_force.norm();
+    f.pairs.push_back({i, j, s.normal_force});
     f.kind[k] = static_cast<std::int64_t>(distant     ? NetworkKind::kDistant
                                           : force > 0 ? NetworkKind::kCompressive
                                           : force < 0 ? NetworkKind::kTensile

@@ -732,6 +732,13 @@ template <int dim> void validate_for_write(const Configuration<dim>& c, const Fi
       ctx.fail("contact key (" + std::to_string(key.first) + ", " + std::to_string(key.second) +
                ") is not (first < second, both >= 0)");
   }
+  if (c.network) {
+    const auto& f = *c.network;
+    for (const auto* v : {&f.contacts, &f.carrying_contacts, &f.mean_stress, &f.rattler})
+      if (v->size() != n)
+        ctx.fail("a per-grain /network array has " + std::to_string(v->size()) + " rows for " +
+                 std::to_string(n) + " owned particles");
+  }
   if (!c.meta.kind.empty() && c.meta.kind != "configuration" && c.meta.kind != "checkpoint")
     ctx.fail("kind '" + c.meta.kind + "' is neither 'configuration' nor 'checkpoint'");
   for (int a = 0; a < dim; ++a)
@@ -817,6 +824,7 @@ void write_network(const FileContext& ctx, hid_t file, hid_t dxpl, const Network
   rows("contacts", f.contacts, ps, 0, "1");
   rows("carrying_contacts", f.carrying_contacts, ps, 0, "1");
   rows("mean_stress", f.mean_stress, ps, 0, "Pa");
+  rows("rattler", f.rattler, ps, 0, "1");
   std::vector<double> net;
   net.reserve(static_cast<std::size_t>(ps.count) * dim);
   for (std::int64_t i = 0; i < ps.count; ++i)

@@ -84,7 +84,8 @@ std::string configuration_grid(const XdmfParticles& p) {
     os << attribute("contacts", "Scalar", "Node", n, "Float", "/network/contacts")
        << attribute("carrying_contacts", "Scalar", "Node", n, "Float", "/network/carrying_contacts")
        << attribute("net_force", "Vector", "Node", nd, "Float", "/network/net_force")
-       << attribute("mean_stress", "Scalar", "Node", n, "Float", "/network/mean_stress");
+       << attribute("mean_stress", "Scalar", "Node", n, "Float", "/network/mean_stress")
+       << attribute("rattler", "Scalar", "Node", n, "Float", "/network/rattler");
   os << ind << "    </Grid>\n";
   if (lines) {
     const std::string nc = std::to_string(p.n_network_contacts);

@@ -67,7 +67,7 @@ check(f"particles: {g.get('points')} points, {g.get('cells')} cells = n = {p.n}"
       g.get("points") == p.n and g.get("cells") == p.n)
 # ParaView pads 2-component vectors to 3.
 want = {"radius": 1, "id": 1, "velocity": 3, "angular_velocity": 1, "contacts": 1,
-        "carrying_contacts": 1, "net_force": 3, "mean_stress": 1}
+        "carrying_contacts": 1, "net_force": 3, "mean_stress": 1, "rattler": 1}
 got = {k: v["components"] for k, v in g.get("point_arrays", {}).items()}
 check(f"particle arrays {got}", all(got.get(k) == v for k, v in want.items()))
 check("radius range as in the file", np.allclose(g["point_arrays"]["radius"]["range"],

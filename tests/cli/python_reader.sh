@@ -125,6 +125,10 @@ if nw:
     np.add.at(share, p.i, w)
     np.add.at(share, p.j, w)
     check("per-grain mean stress", np.allclose(nw["mean_stress"], share / (3 * vg), rtol=1e-12, atol=1e-9 * P))
+    rat = p.rattlers()
+    check(f"rattler flags of the iterated rule ({int(nw['rattler'].sum())} of {p.n}) = the reader's rattlers()",
+          np.array_equal(nw["rattler"] == 1, rat) and rat.sum() > 0)
+    check("rattler flags give report.json's x0", abs(nw["rattler"].mean() - rep.stages[-1]["x0"]) < 1e-12)
     check("units of /network", p.units.get("network/point") == "m" and p.units.get("network/net_force") == "N")
 t = rep.stage_table()
 check("stage table: names, phi and pressure arrays", list(t["kind"]) == ["random", "compress"]
