@@ -16,6 +16,7 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
   f.normal_force.assign(nc, 0.0);
   f.tangential_magnitude.assign(nc, 0.0);
   f.kind.assign(nc, static_cast<std::int64_t>(NetworkKind::kUnstressed));
+  f.mobilisation.assign(nc, 0.0);
   f.contacts.assign(n, 0.0);
   f.carrying_contacts.assign(n, 0.0);
   f.mean_stress.assign(n, 0.0);
@@ -46,6 +47,8 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
     f.normal_force[k] = force;
     f.tangential_magnitude[k] = s.tangential_force.norm();
     f.pairs.push_back({i, j, s.normal_force});
+    const double limit = coulomb_limit(law.friction.mu, s.normal_force);
+    f.mobilisation[k] = limit > 0 && std::isfinite(limit) ? f.tangential_magnitude[k] / limit : 0.0;
     f.kind[k] = static_cast<std::int64_t>(distant     ? NetworkKind::kDistant
                                           : force > 0 ? NetworkKind::kCompressive
                                           : force < 0 ? NetworkKind::kTensile

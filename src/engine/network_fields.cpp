@@ -36,6 +36,22 @@ void rattler_flags(const RunContext<dim>& ctx, const ParticleStore<dim>& p, cons
       find_backbone(p, halo, d, carrying, min_backbone_contacts(dim, law.friction.mu));
   f.rattler.assign(b.rattler.begin(), b.rattler.begin() + static_cast<long>(p.n_owned()));
 }
+
+/// f.strong: N > <N>, the mean over the compressive contacts of every rank.
+template <int dim> void strong_flags(const RunContext<dim>& ctx, NetworkFields<dim>& f) {
+  const auto compressive = static_cast<std::int64_t>(NetworkKind::kCompressive);
+  double sums[2] = {0, 0}; // sum of N, number of compressive contacts
+  for (std::size_t k = 0; k < f.kind.size(); ++k)
+    if (f.kind[k] == compressive) {
+      sums[0] += f.normal_force[k];
+      sums[1] += 1;
+    }
+  global_sum_in_place(ctx.world, sums);
+  const double mean = sums[1] > 0 ? sums[0] / sums[1] : 0.0;
+  f.strong.assign(f.kind.size(), 0.0);
+  for (std::size_t k = 0; k < f.kind.size(); ++k)
+    f.strong[k] = f.kind[k] == compressive && f.normal_force[k] > mean ? 1.0 : 0.0;
+}
 } // namespace
 
 template <int dim>
@@ -62,6 +78,7 @@ std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
   if (global_sum(ctx.world, f.missing) > 0)
     return std::nullopt;
   rattler_flags(ctx, p, halo, f);
+  strong_flags(ctx, f);
   halo.reverse_values(f.contacts, d);
   halo.reverse_values(f.carrying_contacts, d);
   halo.reverse_values(f.mean_stress, d);

@@ -734,6 +734,10 @@ template <int dim> void validate_for_write(const Configuration<dim>& c, const Fi
   }
   if (c.network) {
     const auto& f = *c.network;
+    for (const auto* v : {&f.normal_force, &f.tangential_magnitude, &f.mobilisation, &f.strong})
+      if (v->size() != c.contacts.size())
+        ctx.fail("a per-contact /network array has " + std::to_string(v->size()) + " rows for " +
+                 std::to_string(c.contacts.size()) + " contacts");
     for (const auto* v : {&f.contacts, &f.carrying_contacts, &f.mean_stress, &f.rattler})
       if (v->size() != n)
         ctx.fail("a per-grain /network array has " + std::to_string(v->size()) + " rows for " +
@@ -821,6 +825,8 @@ void write_network(const FileContext& ctx, hid_t file, hid_t dxpl, const Network
   rows("normal_force", f.normal_force, cs, 0, "N");
   rows("tangential_force", f.tangential_magnitude, cs, 0, "N");
   rows("kind", f.kind, cs, 0, "1");
+  rows("mobilisation", f.mobilisation, cs, 0, "1");
+  rows("strong", f.strong, cs, 0, "1");
   rows("contacts", f.contacts, ps, 0, "1");
   rows("carrying_contacts", f.carrying_contacts, ps, 0, "1");
   rows("mean_stress", f.mean_stress, ps, 0, "Pa");

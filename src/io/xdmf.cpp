@@ -100,7 +100,10 @@ std::string configuration_grid(const XdmfParticles& p) {
        << item(points, "Float", "/network/point") << "        </Geometry>\n"
        << attribute("normal_force", "Scalar", "Cell", nc, "Float", "/network/normal_force")
        << attribute("tangential_force", "Scalar", "Cell", nc, "Float", "/network/tangential_force")
-       << attribute("kind", "Scalar", "Cell", nc, "Int", "/network/kind") << "      </Grid>\n";
+       << attribute("kind", "Scalar", "Cell", nc, "Int", "/network/kind")
+       << attribute("mobilisation", "Scalar", "Cell", nc, "Float", "/network/mobilisation")
+       << attribute("strong", "Scalar", "Cell", nc, "Float", "/network/strong")
+       << "      </Grid>\n";
   }
   if (network)
     os << "    </Grid>\n";

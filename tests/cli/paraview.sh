@@ -75,7 +75,8 @@ check("radius range as in the file", np.allclose(g["point_arrays"]["radius"]["ra
 check(f"contacts: {c.get('cells')} cells = nc = {p.nc}, {c.get('points')} points = 2 nc",
       c.get("cells") == p.nc and c.get("points") == 2 * p.nc)
 got = {k: v["components"] for k, v in c.get("cell_arrays", {}).items()}
-check(f"contact arrays {got}", got == {"normal_force": 1, "tangential_force": 1, "kind": 1})
+check(f"contact arrays {got}", got == {"normal_force": 1, "tangential_force": 1, "kind": 1,
+                                      "mobilisation": 1, "strong": 1})
 N = p.total_normal_force
 check(f"normal force range {c['cell_arrays']['normal_force']['range']} = file's",
       np.allclose(c["cell_arrays"]["normal_force"]["range"], [N.min(), N.max()]))

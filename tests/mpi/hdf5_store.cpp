@@ -634,6 +634,8 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     f.normal_force.push_back(key);
     f.tangential_magnitude.push_back(2 * key);
     f.kind.push_back(static_cast<std::int64_t>(k % 4));
+    f.mobilisation.push_back(0.25 * double(k % 5));
+    f.strong.push_back(double(k % 2));
   }
   for (std::size_t i = 0; i < c.particles.n_owned(); ++i) {
     f.contacts.push_back(double(c.particles.id[i]));
@@ -674,6 +676,9 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     EXPECT_NE(x.find("Dimensions=\"90 " + std::to_string(dim) + "\""), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/net_force<"), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/rattler<"), std::string::npos) << x;
+    EXPECT_NE(x.find(">net.h5:/network/strong<"), std::string::npos) << x;
+    const auto [mdims, mob] = read_whole(path, "/network/mobilisation");
+    ASSERT_EQ(mdims, (std::vector<hsize_t>{45}));
     EXPECT_NE(x.find("Name=\"contacts\" AttributeType=\"Scalar\" Center=\"Node\""),
               std::string::npos)
         << x;

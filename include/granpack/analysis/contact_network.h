@@ -36,6 +36,13 @@ template <int dim> struct NetworkFields {
   std::vector<double> normal_force;         ///< N = N^e + N^a (N; > 0 repulsive)
   std::vector<double> tangential_magnitude; ///< |T| (N)
   std::vector<std::int64_t> kind;           ///< NetworkKind
+  /// |T| / (μ N^e), the friction mobilised (1: at the Coulomb limit, sliding); 0 where the limit
+  /// μ N^e is 0 (no friction, N^e <= 0) or infinite.
+  std::vector<double> mobilisation;
+  /// 1 for a contact of the strong network (N > <N>, the mean over the compressive contacts of
+  /// every rank: [AR]'s strong/weak split), else 0. Not filled by contact_network (the mean is
+  /// global: engine/network_fields.h).
+  std::vector<double> strong;
   // Per local particle (owned, then ghosts: partial sums for their owners):
   std::vector<double> contacts;                   ///< contacts (distant pairs not counted)
   std::vector<double> carrying_contacts;          ///< contacts with N^e > 0
