@@ -362,6 +362,57 @@ def read_packing(path):
         return Packing(path, f)
 
 
+class Trajectory:
+    """The snapshots of OUT/trajectory.h5 ([output] trajectory_every, docs/visualisation.md).
+    Attributes: path, dimension, deck (text), steps and times (arrays, in step order), groups
+    (the snapshots' HDF5 groups). len(t) snapshots; t[k] (or t.at_step(s)) reads snapshot k as a
+    Packing (whose deck is the file's); iterating gives every snapshot in turn."""
+
+    def __init__(self, path, f):
+        self.path = str(path)
+        a = {k: _attr_value(v) for k, v in f.attrs.items()}
+        if a.get("format") != "granpack" or a.get("kind") != "trajectory":
+            raise GranpackFileError(f"{path}: not a granpack trajectory (root attributes format = "
+                                    "\"granpack\", kind = \"trajectory\" expected)")
+        self.dimension = int(a.get("dimension", 0))
+        self.deck = _text(f["deck"][()]) if "deck" in f else ""
+        if "snapshots" not in f:
+            raise GranpackFileError(f"{path}: missing group /snapshots")
+        names = sorted(f["snapshots"].keys())
+        self.groups = ["/snapshots/" + k for k in names]
+        try:
+            self.steps = np.array([int(f[g].attrs["step"]) for g in self.groups], dtype=np.int64)
+            self.times = np.array([float(f[g].attrs["time"]) for g in self.groups], dtype=float)
+        except KeyError as e:
+            raise GranpackFileError(f"{path}: a snapshot without the attribute {e}") from None
+
+    def __len__(self):
+        return len(self.groups)
+
+    def __getitem__(self, k):
+        g = self.groups[k]
+        with _open_h5(self.path) as f:
+            p = Packing(f"{self.path}:{g}", f[g])
+        p.deck = self.deck
+        return p
+
+    def __iter__(self):
+        return (self[k] for k in range(len(self)))
+
+    def at_step(self, step):
+        k = np.flatnonzero(self.steps == step)
+        if not k.size:
+            raise GranpackFileError(f"{self.path}: no snapshot at step {step} "
+                                    f"(steps {self.steps.tolist()[:10]})")
+        return self[int(k[0])]
+
+
+def read_trajectory(path):
+    """A trajectory file (OUT/trajectory.h5) -> Trajectory."""
+    with _open_h5(path) as f:
+        return Trajectory(path, f)
+
+
 def _h5_to_dict(g):
     out = {k: _attr_value(v) for k, v in g.attrs.items()}
     for k, item in g.items():
@@ -480,6 +531,8 @@ def read(path):
     if str(path).endswith((".h5", ".hdf5")):
         with _open_h5(path) as f:
             if f.attrs.get("format") == "granpack":
+                if _text(f.attrs.get("kind", "")) == "trajectory":
+                    return Trajectory(path, f)
                 return Packing(path, f)
         return read_analysis(path)
     d = _read_json(path)

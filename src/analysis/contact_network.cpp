@@ -6,13 +6,6 @@
 
 namespace granpack {
 
-namespace {
-/// Volume of a grain of radius r: a disk per unit thickness in 2D, a sphere in 3D.
-template <int dim> double grain_volume(double r) {
-  return dim == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
-}
-} // namespace
-
 template <int dim>
 NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<dim>& p,
                                    const ContactStore<dim>& contacts, const ContactLaw<dim>& law) {
@@ -23,6 +16,7 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
   f.normal_force.assign(nc, 0.0);
   f.tangential_magnitude.assign(nc, 0.0);
   f.kind.assign(nc, static_cast<std::int64_t>(NetworkKind::kUnstressed));
+  f.mobilisation.assign(nc, 0.0);
   f.contacts.assign(n, 0.0);
   f.carrying_contacts.assign(n, 0.0);
   f.mean_stress.assign(n, 0.0);
@@ -52,6 +46,9 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
     f.end[k] = f.start[k] + r;
     f.normal_force[k] = force;
     f.tangential_magnitude[k] = s.tangential_force.norm();
+    f.pairs.push_back({i, j, s.normal_force});
+    const double limit = coulomb_limit(law.friction.mu, s.normal_force);
+    f.mobilisation[k] = limit > 0 && std::isfinite(limit) ? f.tangential_magnitude[k] / limit : 0.0;
     f.kind[k] = static_cast<std::int64_t>(distant     ? NetworkKind::kDistant
                                           : force > 0 ? NetworkKind::kCompressive
                                           : force < 0 ? NetworkKind::kTensile

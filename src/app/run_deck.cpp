@@ -15,6 +15,7 @@
 #include "granpack/core/error.h"
 #include "granpack/engine/checkpoint.h"
 #include "granpack/engine/stop_signals.h"
+#include "granpack/engine/trajectory.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/deck_seed.h"
 #include "granpack/io/hdf5_store.h"
@@ -191,6 +192,7 @@ void run_stages(MPI_Comm world, const Deck& deck, Log& log, const std::filesyste
                         std::to_string(first) + " '" + deck.stages[first].name + "'"
                   : std::string("every stage is done")));
   }
+  start_trajectory(ctx, state.has_value());
   for (std::size_t index = first; index < deck.stages.size(); ++index) {
     const auto& st = deck.stages[index];
     ctx.stage_index = st.index;

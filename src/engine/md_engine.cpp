@@ -15,6 +15,7 @@
 #include "granpack/dynamics/integrator.h"
 #include "granpack/engine/state_file.h"
 #include "granpack/engine/stop_signals.h"
+#include "granpack/engine/trajectory.h"
 
 namespace granpack {
 
@@ -244,6 +245,8 @@ template <int dim> void MdEngine<dim>::finish_step() {
   sys.time += dt;
   ++sys.step;
   tally_step();
+  if (trajectory_due(ctx_))
+    write_snapshot(ctx_);
   fault_point(FaultPoint::kStep, sys.step);
   if (fault_point(FaultPoint::kHold, sys.step))
     wait_for_stop_signal();

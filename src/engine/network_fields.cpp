@@ -2,11 +2,57 @@
 
 #include <algorithm>
 
+#include "granpack/comm/backbone.h"
 #include "granpack/comm/halo.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/contact_law_params.h"
+#include "granpack/contact/derived_constants.h"
 
 namespace granpack {
+
+namespace {
+/// f.rattler: [AR]'s iterated rule (comm/backbone.h) on the contacts with N^e above
+/// 1e-4 F1, F1 = a^(dim-1) P (P the static pressure of these forces) or F0 with cohesion, the
+/// threshold `granpack analyze` uses by default.
+template <int dim>
+void rattler_flags(const RunContext<dim>& ctx, const ParticleStore<dim>& p, const Halo<dim>& halo,
+                   NetworkFields<dim>& f) {
+  const auto& d = *ctx.decomposition;
+  // The static pressure: sum of V_g mean_stress_g over the local grains (ghosts carry the
+  // partial sums of their owners) over the cell's volume.
+  double local = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    local += grain_volume<dim>(p.radius[i]) * f.mean_stress[i];
+  const double pressure = global_sum(ctx.world, local) / ctx.system.cell.volume();
+  const double threshold =
+      kCarryingThreshold *
+      force_scale_f1(dim, ctx.deck->sample.diameter, pressure, ctx.contact_law.cohesion_force);
+  std::vector<CarryingContact> carrying;
+  for (const auto& c : f.pairs)
+    if (c.normal_force > threshold)
+      carrying.push_back(c);
+  const ContactLaw<dim> law = make_contact_law<dim>(ctx.contact_law);
+  const Backbone b =
+      find_backbone(p, halo, d, carrying, min_backbone_contacts(dim, law.friction.mu));
+  f.rattler.assign(b.rattler.begin(), b.rattler.begin() + static_cast<long>(p.n_owned()));
+}
+
+/// f.strong: N > <N>, the mean over the compressive contacts of every rank.
+template <int dim> void strong_flags(const RunContext<dim>& ctx, NetworkFields<dim>& f) {
+  const auto compressive = static_cast<std::int64_t>(NetworkKind::kCompressive);
+  double sums[2] = {0, 0}; // sum of N, number of compressive contacts
+  for (std::size_t k = 0; k < f.kind.size(); ++k)
+    if (f.kind[k] == compressive) {
+      sums[0] += f.normal_force[k];
+      sums[1] += 1;
+    }
+  global_sum_in_place(ctx.world, sums);
+  const double mean = sums[1] > 0 ? sums[0] / sums[1] : 0.0;
+  f.strong.assign(f.kind.size(), 0.0);
+  for (std::size_t k = 0; k < f.kind.size(); ++k)
+    f.strong[k] = f.kind[k] == compressive && f.normal_force[k] > mean ? 1.0 : 0.0;
+}
+} // namespace
 
 template <int dim>
 std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
@@ -31,6 +77,8 @@ std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
   NetworkFields<dim> f = contact_network(sys.cell, p, contacts, law);
   if (global_sum(ctx.world, f.missing) > 0)
     return std::nullopt;
+  rattler_flags(ctx, p, halo, f);
+  strong_flags(ctx, f);
   halo.reverse_values(f.contacts, d);
   halo.reverse_values(f.carrying_contacts, d);
   halo.reverse_values(f.mean_stress, d);

@@ -21,9 +21,7 @@ void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
 }
 
 template <int dim>
-void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
-                 const std::string& run_state) {
-  ScopedPhase io(ctx.stage_timers.io);
+Configuration<dim> state_configuration(const RunContext<dim>& ctx, const std::string& run_state) {
   Configuration<dim> c;
   c.cell = ctx.system.cell;
   c.particles = ctx.system.particles;
@@ -46,13 +44,22 @@ void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
   // grid); checkpoints are restart state and stay as they were.
   if (run_state.empty())
     c.network = network_fields(ctx, c.contacts);
-  write_configuration<dim>(ctx.world, file, c);
+  return c;
+}
+
+template <int dim>
+void write_state(RunContext<dim>& ctx, const std::filesystem::path& file,
+                 const std::string& run_state) {
+  ScopedPhase io(ctx.stage_timers.io);
+  write_configuration<dim>(ctx.world, file, state_configuration(ctx, run_state));
 }
 
 template void adopt_configuration<2>(RunContext<2>&, Configuration<2>&&, const std::array<int, 2>*,
                                      const std::array<std::vector<double>, 2>*);
 template void adopt_configuration<3>(RunContext<3>&, Configuration<3>&&, const std::array<int, 3>*,
                                      const std::array<std::vector<double>, 3>*);
+template Configuration<2> state_configuration<2>(const RunContext<2>&, const std::string&);
+template Configuration<3> state_configuration<3>(const RunContext<3>&, const std::string&);
 template void write_state<2>(RunContext<2>&, const std::filesystem::path&, const std::string&);
 template void write_state<3>(RunContext<3>&, const std::filesystem::path&, const std::string&);
 

@@ -239,6 +239,8 @@ OutputSpec read_output(TableReader& r) {
   o.checkpoint_every_seconds =
       r.number_or("checkpoint_every_seconds", 3600.0, Range::non_negative(),
                   "wall seconds between checkpoints (0: off)");
+  o.trajectory_every = r.integer_or("trajectory_every", 0, Range::non_negative(),
+                                    "steps between trajectory snapshots (0: off)");
   r.finish();
   return o;
 }

@@ -12,6 +12,7 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "granpack/comm/broadcast.h"
@@ -731,6 +732,17 @@ template <int dim> void validate_for_write(const Configuration<dim>& c, const Fi
       ctx.fail("contact key (" + std::to_string(key.first) + ", " + std::to_string(key.second) +
                ") is not (first < second, both >= 0)");
   }
+  if (c.network) {
+    const auto& f = *c.network;
+    for (const auto* v : {&f.normal_force, &f.tangential_magnitude, &f.mobilisation, &f.strong})
+      if (v->size() != c.contacts.size())
+        ctx.fail("a per-contact /network array has " + std::to_string(v->size()) + " rows for " +
+                 std::to_string(c.contacts.size()) + " contacts");
+    for (const auto* v : {&f.contacts, &f.carrying_contacts, &f.mean_stress, &f.rattler})
+      if (v->size() != n)
+        ctx.fail("a per-grain /network array has " + std::to_string(v->size()) + " rows for " +
+                 std::to_string(n) + " owned particles");
+  }
   if (!c.meta.kind.empty() && c.meta.kind != "configuration" && c.meta.kind != "checkpoint")
     ctx.fail("kind '" + c.meta.kind + "' is neither 'configuration' nor 'checkpoint'");
   for (int a = 0; a < dim; ++a)
@@ -813,9 +825,12 @@ void write_network(const FileContext& ctx, hid_t file, hid_t dxpl, const Network
   rows("normal_force", f.normal_force, cs, 0, "N");
   rows("tangential_force", f.tangential_magnitude, cs, 0, "N");
   rows("kind", f.kind, cs, 0, "1");
+  rows("mobilisation", f.mobilisation, cs, 0, "1");
+  rows("strong", f.strong, cs, 0, "1");
   rows("contacts", f.contacts, ps, 0, "1");
   rows("carrying_contacts", f.carrying_contacts, ps, 0, "1");
   rows("mean_stress", f.mean_stress, ps, 0, "Pa");
+  rows("rattler", f.rattler, ps, 0, "1");
   std::vector<double> net;
   net.reserve(static_cast<std::size_t>(ps.count) * dim);
   for (std::int64_t i = 0; i < ps.count; ++i)
@@ -972,6 +987,18 @@ std::string fail_write(MPI_Comm comm, const std::filesystem::path& path,
                    : std::string());
 }
 
+/// Collective. This rank's slices of the particle and contact rows of a write: offsets by
+/// exclusive prefix sums of the owned counts.
+template <int dim>
+std::pair<Slice, Slice> write_slices(MPI_Comm comm, const Configuration<dim>& c) {
+  std::int64_t local[2] = {static_cast<std::int64_t>(c.particles.n_owned()),
+                           static_cast<std::int64_t>(c.contacts.size())};
+  std::int64_t offset[2] = {0, 0}, total[2] = {0, 0};
+  exclusive_prefix_sum(comm, local, offset);
+  global_sum(comm, local, total);
+  return {Slice{total[0], offset[0], local[0]}, Slice{total[1], offset[1], local[1]}};
+}
+
 /// This rank's rows [n*r/P, n*(r+1)/P) of n.
 Slice even_slice(std::int64_t n, int rank, int size) {
   const std::int64_t lo = n * rank / size, hi = n * (rank + 1) / size;
@@ -999,13 +1026,7 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
   const FileContext temp{temp_path_for(path), false};
   collectively(comm, [&] { validate_for_write(c, target); });
 
-  // Offsets of this rank's slices: exclusive prefix sums of the owned counts.
-  std::int64_t local[2] = {static_cast<std::int64_t>(c.particles.n_owned()),
-                           static_cast<std::int64_t>(c.contacts.size())};
-  std::int64_t offset[2] = {0, 0}, total[2] = {0, 0};
-  exclusive_prefix_sum(comm, local, offset);
-  global_sum(comm, local, total);
-  const Slice ps{total[0], offset[0], local[0]}, cs{total[1], offset[1], local[1]};
+  const auto [ps, cs] = write_slices(comm, c);
 
   CollectiveError err;
   try {
@@ -1037,8 +1058,8 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
   collectively(comm, [&] {
     if (rank != 0)
       return;
-    XdmfParticles x{path.filename().string(), dim, ps.global, c.meta.time,
-                    c.network ? cs.global : -1};
+    XdmfParticles x{path.filename().string(),   dim, ps.global, c.meta.time,
+                    c.network ? cs.global : -1, {}};
     write_particles_xdmf(xdmf_path_for(path), x);
   });
 }
@@ -1242,11 +1263,153 @@ std::string describe_file(MPI_Comm comm, const std::filesystem::path& path) {
   return os.str();
 }
 
+// ----------------------------------------------------------------------------------------
+// Trajectories: one file, a snapshot per group /snapshots/<step>
+
+std::string snapshot_group(std::int64_t step) {
+  char name[40];
+  std::snprintf(name, sizeof name, "/snapshots/%012lld", static_cast<long long>(step));
+  return name;
+}
+
+namespace {
+/// Rank 0 alone, the file closed on every rank: `f(file)` on the trajectory opened serially
+/// (read-write or read-only); the outcome is agreed on by every rank (Error on every rank).
+template <class F>
+void on_rank0_serially(MPI_Comm comm, const FileContext& ctx, bool write, F&& f) {
+  collectively(comm, [&] {
+    if (rank_of(comm) != 0)
+      return;
+    h5::silence_errors();
+    auto file = h5::file_handle(
+        ctx.id(H5Fopen(ctx.path.c_str(), write ? H5F_ACC_RDWR : H5F_ACC_RDONLY, H5P_DEFAULT),
+               "cannot open the trajectory"));
+    f(file);
+    if (!file.reset())
+      ctx.fail("cannot close the trajectory", true);
+  });
+}
+
+/// The snapshots of an open trajectory, in the order of their names (= steps).
+std::vector<TrajectorySnapshot> snapshot_index(const FileContext& ctx, hid_t file) {
+  std::vector<TrajectorySnapshot> out;
+  if (H5Lexists(file, "snapshots", H5P_DEFAULT) <= 0)
+    return out;
+  auto g = group_open(ctx, file, "snapshots");
+  std::vector<std::string> names;
+  auto collect = [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+    static_cast<std::vector<std::string>*>(data)->push_back(name);
+    return 0;
+  };
+  ctx.rc(H5Literate(g, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names),
+         "cannot list /snapshots");
+  for (const auto& name : names) {
+    const std::string where = "/snapshots/" + name + "/";
+    auto s = h5::group_handle(
+        ctx.id(H5Gopen2(g, name.c_str(), H5P_DEFAULT), "cannot open group " + where));
+    TrajectorySnapshot t;
+    t.group = "/snapshots/" + name;
+    t.step = read_attribute<std::int64_t>(ctx, s, where, "step");
+    t.time = read_attribute<double>(ctx, s, where, "time");
+    t.n_particles = read_attribute<std::int64_t>(ctx, s, where, "n_particles");
+    t.n_contacts = read_attribute<std::int64_t>(ctx, s, where, "n_contacts");
+    t.network = H5Lexists(s, "network", H5P_DEFAULT) > 0;
+    out.push_back(t);
+  }
+  return out;
+}
+} // namespace
+
+template <int dim>
+void append_snapshot(MPI_Comm comm, const std::filesystem::path& path, const Configuration<dim>& c,
+                     const std::string& deck_text) {
+  h5::silence_errors();
+  const FileContext ctx{path, false};
+  collectively(comm, [&] { validate_for_write(c, ctx); });
+  const auto [ps, cs] = write_slices(comm, c);
+  int exists = 0;
+  if (rank_of(comm) == 0)
+    exists = std::filesystem::exists(path) ? 1 : 0;
+  exists = broadcast_value<int>(comm, exists);
+  const std::string name = snapshot_group(c.meta.step);
+
+  auto phase = [comm](auto&& f) { collectively(comm, f); };
+  Handle fapl, file, dxpl;
+  try {
+    phase([&] {
+      fapl = mpio_fapl(ctx, comm);
+      file = h5::file_handle(
+          exists
+              ? ctx.id(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl), "cannot open for appending")
+              : ctx.id(H5Fcreate(path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl), "cannot create"));
+      dxpl = collective_dxpl(ctx);
+    });
+    if (!exists) {
+      phase([&] {
+        write_attribute(ctx, file, "format", std::string("granpack"));
+        write_attribute(ctx, file, "format_version", kHdf5FormatVersion);
+        write_attribute(ctx, file, "granpack_version", std::string(GRANPACK_VERSION));
+        write_attribute(ctx, file, "dimension", dim);
+        write_attribute(ctx, file, "kind", std::string("trajectory"));
+      });
+      phase([&] { write_text_dataset(ctx, file, comm, "deck", deck_text); });
+      phase([&] { group_create(ctx, file, "snapshots"); });
+    }
+    Handle g;
+    phase([&] {
+      if (H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0)
+        ctx.fail("already holds a snapshot at step " + std::to_string(c.meta.step));
+      g = group_create(ctx, file, name.c_str());
+    });
+    write_contents(comm, ctx, g, dxpl, c, ps, cs, phase);
+    g.reset();
+    dxpl.reset();
+    phase([&] { ctx.rc(H5Fflush(file, H5F_SCOPE_LOCAL), "cannot flush the file"); });
+  } catch (const Error& e) {
+    if (file.valid()) {
+      (void)file.release(); // as write_file: HDF5 1.10.8 cannot close after a failed write
+      file_left_open() = true;
+    }
+    throw WriteError("cannot append the snapshot of step " + std::to_string(c.meta.step) + " to " +
+                     path.string() + ": " + e.what());
+  }
+  phase([&] {
+    if (!file.reset())
+      ctx.fail("cannot close the file", true);
+  });
+}
+
+std::vector<TrajectorySnapshot> read_trajectory_index(MPI_Comm comm,
+                                                      const std::filesystem::path& path) {
+  const FileContext ctx{path, false};
+  std::vector<TrajectorySnapshot> index;
+  on_rank0_serially(comm, ctx, false, [&](hid_t file) { index = snapshot_index(ctx, file); });
+  return index; // complete on rank 0 only
+}
+
+void prune_trajectory(MPI_Comm comm, const std::filesystem::path& path, std::int64_t after_step) {
+  int exists = 0;
+  if (rank_of(comm) == 0)
+    exists = std::filesystem::exists(path) ? 1 : 0;
+  if (!broadcast_value<int>(comm, exists))
+    return;
+  const FileContext ctx{path, false};
+  on_rank0_serially(comm, ctx, true, [&](hid_t file) {
+    for (const auto& s : snapshot_index(ctx, file))
+      if (s.step > after_step)
+        ctx.rc(H5Ldelete(file, s.group.c_str(), H5P_DEFAULT), "cannot delete " + s.group);
+  });
+}
+
 template void write_configuration<2>(MPI_Comm, const std::filesystem::path&,
                                      const Configuration<2>&);
 template void write_configuration<3>(MPI_Comm, const std::filesystem::path&,
                                      const Configuration<3>&);
 template Configuration<2> read_configuration<2>(MPI_Comm, const std::filesystem::path&);
 template Configuration<3> read_configuration<3>(MPI_Comm, const std::filesystem::path&);
+template void append_snapshot<2>(MPI_Comm, const std::filesystem::path&, const Configuration<2>&,
+                                 const std::string&);
+template void append_snapshot<3>(MPI_Comm, const std::filesystem::path&, const Configuration<3>&,
+                                 const std::string&);
 
 } // namespace granpack

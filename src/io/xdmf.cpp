@@ -42,8 +42,12 @@ std::filesystem::path xdmf_path_for(const std::filesystem::path& h5_path) {
   return p;
 }
 
-std::string particles_xdmf(const XdmfParticles& p) {
+namespace {
+/// The grid(s) of one configuration (a spatial collection of particles and contacts, or the
+/// particles alone), indented for a place directly inside <Domain>.
+std::string configuration_grid(const XdmfParticles& p) {
   const std::string file = xml_escape(p.h5_name);
+  const std::string at = xml_escape(p.group); // "" or "/snapshots/<step>"
   const std::string n = std::to_string(p.n_particles);
   const std::string nd = n + " " + std::to_string(p.dimension);
   const std::string rd = n + " " + (p.dimension == 2 ? "1" : "3");
@@ -53,7 +57,7 @@ std::string particles_xdmf(const XdmfParticles& p) {
   const std::string ind = network ? "  " : ""; // the grids sit inside a collection
   auto item = [&](const std::string& dims, const char* type, const std::string& dataset) {
     return ind + "        <DataItem Dimensions=\"" + dims + "\" NumberType=\"" + type +
-           "\" Precision=\"8\" Format=\"HDF\">" + file + ":" + dataset + "</DataItem>\n";
+           "\" Precision=\"8\" Format=\"HDF\">" + file + ":" + at + dataset + "</DataItem>\n";
   };
   auto attribute = [&](const char* name, const char* kind, const char* center,
                        const std::string& dims, const char* type, const std::string& dataset) {
@@ -62,11 +66,6 @@ std::string particles_xdmf(const XdmfParticles& p) {
   };
   std::ostringstream os;
   os.precision(17);
-  os << "<?xml version=\"1.0\" ?>\n"
-     << "<!-- granpack particles" << (lines ? " and contact network" : "") << "; data in " << file
-     << " (see docs/hdf5-schema.md, docs/visualisation.md) -->\n"
-     << "<Xdmf Version=\"3.0\">\n"
-     << "  <Domain>\n";
   if (network)
     os << "    <Grid Name=\"packing\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
        << "      <Time Value=\"" << p.time << "\"/>\n";
@@ -85,7 +84,8 @@ std::string particles_xdmf(const XdmfParticles& p) {
     os << attribute("contacts", "Scalar", "Node", n, "Float", "/network/contacts")
        << attribute("carrying_contacts", "Scalar", "Node", n, "Float", "/network/carrying_contacts")
        << attribute("net_force", "Vector", "Node", nd, "Float", "/network/net_force")
-       << attribute("mean_stress", "Scalar", "Node", n, "Float", "/network/mean_stress");
+       << attribute("mean_stress", "Scalar", "Node", n, "Float", "/network/mean_stress")
+       << attribute("rattler", "Scalar", "Node", n, "Float", "/network/rattler");
   os << ind << "    </Grid>\n";
   if (lines) {
     const std::string nc = std::to_string(p.n_network_contacts);
@@ -100,32 +100,71 @@ std::string particles_xdmf(const XdmfParticles& p) {
        << item(points, "Float", "/network/point") << "        </Geometry>\n"
        << attribute("normal_force", "Scalar", "Cell", nc, "Float", "/network/normal_force")
        << attribute("tangential_force", "Scalar", "Cell", nc, "Float", "/network/tangential_force")
-       << attribute("kind", "Scalar", "Cell", nc, "Int", "/network/kind") << "      </Grid>\n";
+       << attribute("kind", "Scalar", "Cell", nc, "Int", "/network/kind")
+       << attribute("mobilisation", "Scalar", "Cell", nc, "Float", "/network/mobilisation")
+       << attribute("strong", "Scalar", "Cell", nc, "Float", "/network/strong")
+       << "      </Grid>\n";
   }
   if (network)
     os << "    </Grid>\n";
-  os << "  </Domain>\n"
-     << "</Xdmf>\n";
   return os.str();
 }
 
-void write_particles_xdmf(const std::filesystem::path& xdmf_path, const XdmfParticles& p) {
-  const auto temp = temp_path_for(xdmf_path);
+std::string xdmf_header(const std::string& what, const std::string& h5_name) {
+  return "<?xml version=\"1.0\" ?>\n<!-- granpack " + what + "; data in " + xml_escape(h5_name) +
+         " (see docs/hdf5-schema.md, docs/visualisation.md) -->\n<Xdmf Version=\"3.0\">\n"
+         "  <Domain>\n";
+}
+
+const char* const kXdmfFooter = "  </Domain>\n</Xdmf>\n";
+
+/// Writes `text` to `path` atomically (temp + rename); throws WriteError naming the file.
+void write_text_atomically(const std::filesystem::path& path, const std::string& text) {
+  const auto temp = temp_path_for(path);
   {
     errno = 0;
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    out << particles_xdmf(p);
+    out << text;
     out.close();
     if (!out) {
       const int e = errno; // set by the failed write or close (ENOSPC, EDQUOT, EFBIG)
       std::error_code ec;
       std::filesystem::remove(temp, ec);
-      throw WriteError("cannot write " + xdmf_path.string() + ": " +
+      throw WriteError("cannot write " + path.string() + ": " +
                        (e ? std::strerror(e) : "write failed") + "; " + temp.filename().string() +
                        " was removed");
     }
   }
-  commit_temp_file(temp, xdmf_path);
+  commit_temp_file(temp, path);
+}
+} // namespace
+
+std::string particles_xdmf(const XdmfParticles& p) {
+  const bool lines = p.n_network_contacts > 0;
+  return xdmf_header(lines ? "particles and contact network" : "particles", p.h5_name) +
+         configuration_grid(p) + kXdmfFooter;
+}
+
+std::string trajectory_xdmf(const std::string& h5_name, const std::vector<XdmfParticles>& frames) {
+  std::string grids;
+  for (const auto& f : frames) {
+    // Each line of the configuration's grid two spaces deeper, inside the temporal collection.
+    std::istringstream in(configuration_grid(f));
+    for (std::string line; std::getline(in, line);)
+      grids += "  " + line + "\n";
+  }
+  return xdmf_header("trajectory (" + std::to_string(frames.size()) + " snapshots)", h5_name) +
+         "    <Grid Name=\"trajectory\" GridType=\"Collection\" CollectionType=\"Temporal\">\n" +
+         grids + "    </Grid>\n" + kXdmfFooter;
+}
+
+void write_trajectory_xdmf(const std::filesystem::path& xdmf_path, const std::string& h5_name,
+                           const std::vector<XdmfParticles>& frames) {
+  write_text_atomically(xdmf_path, trajectory_xdmf(h5_name, frames));
+}
+
+void write_particles_xdmf(const std::filesystem::path& xdmf_path, const XdmfParticles& p) {
+  write_text_atomically(xdmf_path, particles_xdmf(p));
 }
 
 } // namespace granpack

@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "granpack/comm/allgather.h"
+#include "granpack/comm/backbone.h"
 #include "granpack/comm/halo.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/derived_constants.h"
@@ -25,7 +26,6 @@
 #include "granpack/engine/checkpoint.h"
 #include "granpack/engine/material_law.h"
 #include "granpack/engine/md_engine.h"
-#include "granpack/packing/backbone.h"
 #include "granpack/stages/stages.h"
 
 namespace granpack {

@@ -7,7 +7,8 @@
 # carrying_contacts, net_force, mean_stress; contacts nc cells of 2 of 2 nc points with normal_force,
 # tangential_force, kind, the force range that of the file); the rendered force network is a
 # PNG of 300 x 300 pixels or more with more than one colour; jobs/tools/xdmf_series.py makes
-# a time series of the run's two files, which ParaView reads as 2 steps at their times. A
+# a time series of the run's two files, which ParaView reads as 2 steps at their times, and the
+# run's trajectory ([output] trajectory_every) is read as one time step per snapshot. A
 # missing file is refused
 # (exit 2, naming it). Skipped (exit 77) where pvbatch or Xvfb is absent: `bash jobs/setup.sh
 # test` installs paraview, python3-paraview and xvfb (Debian's ParaView renders through X only,
@@ -34,6 +35,9 @@ import os, sys
 sys.path.insert(0, os.environ["GRANPACK_SOURCE_DIR"] + "/jobs/tools")
 import granpack_io as gio
 deck = gio.read_packing(sys.argv[1]).deck.split("[[stage]]")[0]
+# Snapshots every 100 steps of the compress stage (OUT/trajectory.h5 and its series).
+deck = (deck.replace("[output]", "[output]\ntrajectory_every = 100") if "[output]" in deck
+        else deck + "\n[output]\ntrajectory_every = 100\n")
 open(sys.argv[2], "w").write(deck + f'\n[[stage]]\nkind = "read"\nfile = "{sys.argv[1]}"\n'
                              '[[stage]]\nkind = "write"\nfile = "before.h5"\n'
                              '[[stage]]\nkind = "compress"\npressure = 20.0\nmax_steps = 400\n')
@@ -63,7 +67,7 @@ check(f"particles: {g.get('points')} points, {g.get('cells')} cells = n = {p.n}"
       g.get("points") == p.n and g.get("cells") == p.n)
 # ParaView pads 2-component vectors to 3.
 want = {"radius": 1, "id": 1, "velocity": 3, "angular_velocity": 1, "contacts": 1,
-        "carrying_contacts": 1, "net_force": 3, "mean_stress": 1}
+        "carrying_contacts": 1, "net_force": 3, "mean_stress": 1, "rattler": 1}
 got = {k: v["components"] for k, v in g.get("point_arrays", {}).items()}
 check(f"particle arrays {got}", all(got.get(k) == v for k, v in want.items()))
 check("radius range as in the file", np.allclose(g["point_arrays"]["radius"]["range"],
@@ -71,7 +75,8 @@ check("radius range as in the file", np.allclose(g["point_arrays"]["radius"]["ra
 check(f"contacts: {c.get('cells')} cells = nc = {p.nc}, {c.get('points')} points = 2 nc",
       c.get("cells") == p.nc and c.get("points") == 2 * p.nc)
 got = {k: v["components"] for k, v in c.get("cell_arrays", {}).items()}
-check(f"contact arrays {got}", got == {"normal_force": 1, "tangential_force": 1, "kind": 1})
+check(f"contact arrays {got}", got == {"normal_force": 1, "tangential_force": 1, "kind": 1,
+                                      "mobilisation": 1, "strong": 1})
 N = p.total_normal_force
 check(f"normal force range {c['cell_arrays']['normal_force']['range']} = file's",
       np.allclose(c["cell_arrays"]["normal_force"]["range"], [N.min(), N.max()]))
@@ -109,6 +114,25 @@ assert g["particles"]["points"] == a.n and g["contacts"]["cells"] == a.nc, g
 PY
 check_refused "a series of one file twice" 2 "same time" "$scratch/twice.txt" /usr/bin/python3 \
   "$GRANPACK_SOURCE_DIR/jobs/tools/xdmf_series.py" "$out/twice.xdmf" "$out/final.h5" "$out/final.h5"
+
+# The run's trajectory (trajectory_every = 100 during the 400 steps of compress) as ParaView
+# plays it: one time step per snapshot, at its step, the grains and contacts of the first.
+check_exit "pvbatch reads the trajectory's series" 0 "$scratch/pvt.txt" \
+  pvrun "$pv" "$out/trajectory.xdmf" --summary "$scratch/trajectory.json"
+check_python "the trajectory: one time step per snapshot (at its step), grains and contacts" \
+  "$scratch/traj.txt" "$out" "$scratch/trajectory.json" <<'PY'
+import json, os, sys
+sys.path.insert(0, os.environ["GRANPACK_SOURCE_DIR"] + "/jobs/tools")
+import granpack_io as gio
+out, s = sys.argv[1], json.load(open(sys.argv[2]))
+t = gio.read_trajectory(f"{out}/trajectory.h5")
+assert len(t) >= 3, t.steps
+assert s["times"] == [float(x) for x in t.steps], (s["times"], t.steps)
+first = t[0]
+g = s["grids"]
+assert g["particles"]["points"] == first.n and g["contacts"]["cells"] == first.nc, (g, first.n, first.nc)
+print(f"{len(t)} time steps at steps {t.steps.tolist()}")
+PY
 
 check_refused "a missing file" 2 "nope.xdmf: no such file" "$scratch/bad.txt" pvrun "$pv" "$scratch/nope.xdmf"
 

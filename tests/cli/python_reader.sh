@@ -125,6 +125,20 @@ if nw:
     np.add.at(share, p.i, w)
     np.add.at(share, p.j, w)
     check("per-grain mean stress", np.allclose(nw["mean_stress"], share / (3 * vg), rtol=1e-12, atol=1e-9 * P))
+    rat = p.rattlers()
+    check(f"rattler flags of the iterated rule ({int(nw['rattler'].sum())} of {p.n}) = the reader's rattlers()",
+          np.array_equal(nw["rattler"] == 1, rat) and rat.sum() > 0)
+    check("rattler flags give report.json's x0", abs(nw["rattler"].mean() - rep.stages[-1]["x0"]) < 1e-12)
+    mu = p._param("friction")
+    mob = np.where(p.contacts["normal_force"] > 0,
+                   p.tangential_magnitude / np.maximum(mu * p.contacts["normal_force"], 1e-300), 0.0)
+    check(f"mobilisation = |T|/(mu N^e) (max {nw['mobilisation'].max():.6f} <= 1: Coulomb)",
+          np.allclose(nw["mobilisation"], mob, rtol=1e-12, atol=1e-12) and nw["mobilisation"].max() <= 1 + 1e-9
+          and nw["mobilisation"].max() > 0.5)
+    Nt = p.total_normal_force
+    strong = (Nt > 0) & (Nt > Nt[Nt > 0].mean())
+    check(f"strong flags: N > <N> over the compressive contacts ({int(nw['strong'].sum())} of {p.nc})",
+          np.array_equal(nw["strong"] == 1, strong) and 0 < strong.sum() < p.nc)
     check("units of /network", p.units.get("network/point") == "m" and p.units.get("network/net_force") == "N")
 t = rep.stage_table()
 check("stage table: names, phi and pressure arrays", list(t["kind"]) == ["random", "compress"]

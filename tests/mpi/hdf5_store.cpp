@@ -634,11 +634,14 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     f.normal_force.push_back(key);
     f.tangential_magnitude.push_back(2 * key);
     f.kind.push_back(static_cast<std::int64_t>(k % 4));
+    f.mobilisation.push_back(0.25 * double(k % 5));
+    f.strong.push_back(double(k % 2));
   }
   for (std::size_t i = 0; i < c.particles.n_owned(); ++i) {
     f.contacts.push_back(double(c.particles.id[i]));
     f.carrying_contacts.push_back(0.5 * double(c.particles.id[i]));
     f.mean_stress.push_back(-double(c.particles.id[i]));
+    f.rattler.push_back(double(c.particles.id[i] % 2));
     for (int a = 0; a < dim; ++a)
       f.net_force[a].push_back(double(c.particles.id[i]) + a);
   }
@@ -650,6 +653,8 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     const auto [ndims, normal] = read_whole(path, "/network/normal_force");
     const auto [gdims, net] = read_whole(path, "/network/net_force");
     const auto [cdims, count] = read_whole(path, "/network/contacts");
+    const auto [rdims, rattler] = read_whole(path, "/network/rattler");
+    ASSERT_EQ(rdims, (std::vector<hsize_t>{123}));
     ASSERT_EQ(ldims, (std::vector<hsize_t>{45, 2}));
     ASSERT_EQ(pdims, (std::vector<hsize_t>{90, dim}));
     ASSERT_EQ(gdims, (std::vector<hsize_t>{123, dim}));
@@ -663,12 +668,17 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     const auto [idims, ids] = read_whole(path, "/particles/id");
     for (std::size_t i = 0; i < 123; ++i) {
       EXPECT_EQ(count[i], ids[i]); // per-grain rows follow /particles
+      EXPECT_EQ(rattler[i], double(std::int64_t(ids[i]) % 2));
       EXPECT_EQ(net[i * dim + 1], ids[i] + 1);
     }
     const std::string x = file_bytes(xdmf_path_for(path));
     EXPECT_NE(x.find("TopologyType=\"Polyline\" NumberOfElements=\"45\""), std::string::npos) << x;
     EXPECT_NE(x.find("Dimensions=\"90 " + std::to_string(dim) + "\""), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/net_force<"), std::string::npos) << x;
+    EXPECT_NE(x.find(">net.h5:/network/rattler<"), std::string::npos) << x;
+    EXPECT_NE(x.find(">net.h5:/network/strong<"), std::string::npos) << x;
+    const auto [mdims, mob] = read_whole(path, "/network/mobilisation");
+    ASSERT_EQ(mdims, (std::vector<hsize_t>{45}));
     EXPECT_NE(x.find("Name=\"contacts\" AttributeType=\"Scalar\" Center=\"Node\""),
               std::string::npos)
         << x;

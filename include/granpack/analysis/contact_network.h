@@ -10,8 +10,10 @@
 // MPI-free.
 #include <array>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
+#include "granpack/analysis/coordination.h"
 #include "granpack/contact/contact_law.h"
 #include "granpack/core/cell.h"
 #include "granpack/core/contact_store.h"
@@ -34,6 +36,13 @@ template <int dim> struct NetworkFields {
   std::vector<double> normal_force;         ///< N = N^e + N^a (N; > 0 repulsive)
   std::vector<double> tangential_magnitude; ///< |T| (N)
   std::vector<std::int64_t> kind;           ///< NetworkKind
+  /// |T| / (μ N^e), the friction mobilised (1: at the Coulomb limit, sliding); 0 where the limit
+  /// μ N^e is 0 (no friction, N^e <= 0) or infinite.
+  std::vector<double> mobilisation;
+  /// 1 for a contact of the strong network (N > <N>, the mean over the compressive contacts of
+  /// every rank: [AR]'s strong/weak split), else 0. Not filled by contact_network (the mean is
+  /// global: engine/network_fields.h).
+  std::vector<double> strong;
   // Per local particle (owned, then ghosts: partial sums for their owners):
   std::vector<double> contacts;                   ///< contacts (distant pairs not counted)
   std::vector<double> carrying_contacts;          ///< contacts with N^e > 0
@@ -42,8 +51,19 @@ template <int dim> struct NetworkFields {
   /// (1/(dim V_g)) sum over its contacts of f.r_12 / 2 (V_g = pi R^2 per unit thickness in 2D,
   /// 4 pi R^3 / 3 in 3D); sum_g V_g mean_stress_g / V is the static pressure.
   std::vector<double> mean_stress;
+  /// Per contact placed (distant pairs too): the local rows of its grains and N^e, what the
+  /// backbone of [AR]'s rattler rule is found from (comm/backbone.h).
+  std::vector<CarryingContact> pairs;
+  /// Per owned grain: 1 for a rattler of the iterated rule, else 0. Not filled by
+  /// contact_network (the rule runs across ranks: engine/network_fields.h).
+  std::vector<double> rattler;
   std::int64_t missing = 0; ///< contacts whose grains are not both local (nothing computed)
 };
+
+/// Volume of a grain of radius r: a disk per unit thickness in 2D, a sphere in 3D.
+template <int dim> double grain_volume(double r) {
+  return dim == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
+}
 
 /// `p`: owned grains and a ghost layer at least as wide as the contacts are long.
 template <int dim>

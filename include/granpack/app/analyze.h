@@ -8,6 +8,7 @@
 #include <string>
 
 #include "granpack/app/analysis_sections.h"
+#include "granpack/contact/derived_constants.h"
 
 namespace granpack {
 
@@ -18,7 +19,7 @@ struct AnalyzeOptions {
   std::optional<std::filesystem::path> hdf5;
   /// Force-carrying threshold as a fraction of a^2 P (a^(dim-1) P in 2D), P the measured
   /// pressure: the [AR] equilibrium tolerance, below which forces are not resolved.
-  double threshold = 1e-4;
+  double threshold = kCarryingThreshold;
   PairOptions pairs;       ///< g(r) range and bin
   DensityOptions density;  ///< 2D density fluctuations and holes
   bool print_table = true; ///< rank 0 prints the table (not when an ensemble analyses many files)

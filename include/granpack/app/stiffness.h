@@ -8,13 +8,15 @@
 #include <optional>
 #include <string>
 
+#include "granpack/contact/derived_constants.h"
+
 namespace granpack {
 
 struct StiffnessOptions {
   std::filesystem::path file;
   std::optional<std::filesystem::path> json; ///< also write the results here
   /// Force-carrying threshold / (a^(dim-1) P), as in `granpack analyze`.
-  double threshold = 1e-4;
+  double threshold = kCarryingThreshold;
   /// MUMPS null-pivot threshold, relative to the matrix's infinity norm (CNTL(3)).
   double null_pivot_threshold = 1e-12;
   /// Smallest eigenvalues of the stiffened grain block to report (SLEPc).

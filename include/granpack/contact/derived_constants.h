@@ -77,6 +77,11 @@ inline double cohesive_time_scale(double f0, double a, double mass) {
   return std::sqrt(mass * a / f0);
 }
 
+/// [AR]'s force-carrying threshold, a fraction of F1 (force_scale_f1): contacts with N^e above
+/// it carry force (the equilibrium tolerance, below which forces are not resolved); the default
+/// of `granpack analyze` and `stiffness`, and the rattler flags of the files' /network.
+inline constexpr double kCarryingThreshold = 1e-4;
+
 /// Fewest force-carrying contacts with non-rattlers that keep a grain in the backbone, the
 /// iterative rattler rule of [AR] sec. III B: without friction the contact forces are normal
 /// and hold a grain only with dim + 1 contacts (normals not all in one half-space); with

@@ -20,6 +20,11 @@ void adopt_configuration(RunContext<dim>& ctx, Configuration<dim>&& c,
                          const std::array<int, dim>* grid = nullptr,
                          const std::array<std::vector<double>, dim>* cuts = nullptr);
 
+/// The current state as written into files (owned grains, the contacts, the metadata and, for
+/// configurations, the contact network); with a run_state, a checkpoint's. Collective.
+template <int dim>
+Configuration<dim> state_configuration(const RunContext<dim>& ctx, const std::string& run_state);
+
 /// Writes the current state as an HDF5 configuration file (with its XDMF sidecar); with a
 /// run_state (engine/checkpoint.h) the file is a checkpoint.
 template <int dim>

@@ -60,6 +60,8 @@ struct OutputSpec {
   bool quiet = false;
   std::int64_t checkpoint_every_steps = 0;  ///< 0: off
   double checkpoint_every_seconds = 3600.0; ///< wall seconds; 0: off
+  /// MD steps between the snapshots of OUT/trajectory.h5 (engine/trajectory.h); 0: off
+  std::int64_t trajectory_every = 0;
   friend bool operator==(const OutputSpec&, const OutputSpec&) = default;
 };
 

@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "granpack/analysis/contact_network.h"
 #include "granpack/core/cell.h"
@@ -81,6 +82,37 @@ Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path
 /// Throws InputError like read_configuration.
 FileMeta read_file_meta(MPI_Comm comm, const std::filesystem::path& path);
 
+/// One snapshot of a trajectory file (docs/hdf5-schema.md, "Trajectories").
+struct TrajectorySnapshot {
+  std::string group; ///< "/snapshots/<step, 12 digits>"
+  std::int64_t step = 0;
+  double time = 0;
+  std::int64_t n_particles = 0;
+  std::int64_t n_contacts = 0;
+  bool network = false; ///< the snapshot has its /network group
+};
+
+/// The group of the snapshot of `step` in a trajectory file.
+std::string snapshot_group(std::int64_t step);
+
+/// Collective on comm. Appends `c` (whose meta.deck_text should be empty: the deck is stored
+/// once, at the root) as the group snapshot_group(c.meta.step) of the trajectory at `path`,
+/// creating the file (root attributes kind = "trajectory", dimension, /deck = deck_text) if it
+/// does not exist. Not atomic: a crash during the append may leave the file unreadable. Throws
+/// WriteError on every rank naming the file and the step, also if that step is already there.
+template <int dim>
+void append_snapshot(MPI_Comm comm, const std::filesystem::path& path, const Configuration<dim>& c,
+                     const std::string& deck_text);
+
+/// Collective on comm (rank 0 reads serially; the file must be closed). The trajectory's
+/// snapshots in step order, on rank 0 (empty elsewhere). Throws Error naming the file.
+std::vector<TrajectorySnapshot> read_trajectory_index(MPI_Comm comm,
+                                                      const std::filesystem::path& path);
+
+/// Collective on comm (rank 0 writes serially). Deletes the snapshots after `after_step`
+/// (written by a run interrupted after its last checkpoint); nothing if the file is absent.
+void prune_trajectory(MPI_Comm comm, const std::filesystem::path& path, std::int64_t after_step);
+
 /// Collective on comm, like read_file_meta. Human-readable summary for `granpack info`:
 /// kind, dimension, particles, contacts, cell lengths and rates, time, step, stage, version.
 std::string describe_file(MPI_Comm comm, const std::filesystem::path& path);
@@ -102,5 +134,9 @@ extern template void write_configuration<3>(MPI_Comm, const std::filesystem::pat
                                             const Configuration<3>&);
 extern template Configuration<2> read_configuration<2>(MPI_Comm, const std::filesystem::path&);
 extern template Configuration<3> read_configuration<3>(MPI_Comm, const std::filesystem::path&);
+extern template void append_snapshot<2>(MPI_Comm, const std::filesystem::path&,
+                                        const Configuration<2>&, const std::string&);
+extern template void append_snapshot<3>(MPI_Comm, const std::filesystem::path&,
+                                        const Configuration<3>&, const std::string&);
 
 } // namespace granpack

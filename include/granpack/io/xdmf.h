@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace granpack {
 
@@ -14,9 +15,12 @@ struct XdmfParticles {
   std::string h5_name; ///< the .h5 file, relative to the sidecar's directory
   int dimension = 3;   ///< 2 -> geometry "XY", 3 -> "XYZ"
   std::int64_t n_particles = 0;
-  double time = 0;
+  double time = 0; ///< the grids' time value (a trajectory's sidecar puts the step here)
   /// Contacts drawn from /network (its datasets and the per-grain ones); -1: no /network.
   std::int64_t n_network_contacts = -1;
+  /// The HDF5 group holding the configuration's groups: "" (the file's root) or, in a
+  /// trajectory, "/snapshots/<step>".
+  std::string group;
 };
 
 /// The sidecar's name for an HDF5 file: same directory and stem, extension ".xdmf".
@@ -29,6 +33,15 @@ std::filesystem::path xdmf_path_for(const std::filesystem::path& h5_path);
 /// connectivity /network/line; cell attributes normal_force, tangential_force, kind), both in
 /// one spatial collection.
 std::string particles_xdmf(const XdmfParticles& p);
+
+/// XDMF 3 text of a trajectory (docs/visualisation.md): one temporal collection whose members
+/// are the grids particles_xdmf() writes for each snapshot (`frames`, in time order, each with
+/// its group), all in the file h5_name; ParaView's "XDMF Reader" plays it as a time series.
+std::string trajectory_xdmf(const std::string& h5_name, const std::vector<XdmfParticles>& frames);
+
+/// Not collective (call on one rank). Writes trajectory_xdmf() to `xdmf_path` atomically.
+void write_trajectory_xdmf(const std::filesystem::path& xdmf_path, const std::string& h5_name,
+                           const std::vector<XdmfParticles>& frames);
 
 /// Not collective (call on one rank). Writes particles_xdmf(p) to `xdmf_path` atomically
 /// (temp + rename, see atomic_file.h). Throws Error naming the file.

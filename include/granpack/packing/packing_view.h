@@ -8,13 +8,13 @@
 #include <filesystem>
 #include <memory>
 
+#include "granpack/comm/backbone.h"
 #include "granpack/comm/decomposition.h"
 #include "granpack/comm/halo.h"
 #include "granpack/contact/contact_law.h"
 #include "granpack/core/system.h"
 #include "granpack/io/deck.h"
 #include "granpack/io/hdf5_store.h"
-#include "granpack/packing/backbone.h"
 
 namespace granpack {
 

@@ -2,8 +2,8 @@
 // Contact-network metrics of the engine's current state for report.json: x0 by the iterative
 // rule of [AR] sec. III B, z = 2 N_c / n and z* = z / (1 - x0), N_c counting force-carrying
 // contacts (N^e above a threshold) between non-rattlers. Collective.
+#include "granpack/comm/backbone.h"
 #include "granpack/engine/md_engine.h"
-#include "granpack/packing/backbone.h"
 
 namespace granpack {
 

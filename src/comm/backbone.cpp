@@ -1,4 +1,4 @@
-#include "granpack/packing/backbone.h"
+#include "granpack/comm/backbone.h"
 
 #include "granpack/comm/reduce.h"
 
