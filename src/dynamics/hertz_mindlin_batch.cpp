@@ -92,8 +92,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     // Normal elasticity and damping.
     const double k_n = hertz_stiffness(e_tilde, r_eff, hp) + k_lin;
     const double n_el = normal_elastic_force(n_factor, k_n, hp);
-    const double n_visc =
-        applied_viscous_force(viscous_coefficient(two_zeta, m_eff, k_n) * h_dot, n_el, tension);
+    const double n_visc = viscous_coefficient(two_zeta, m_eff, k_n) * h_dot;
 
     // Rotation of the contact over the step (contact_rotation_3d): rolling n x dn + pivoting.
     const Xyz normal{nx, ny, nz};
@@ -137,7 +136,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     tz = slide ? tz * cut : tz;
 
     // Forces and moments.
-    const double n_tot = n_el + n_visc + 0.0;
+    const double n_tot = applied_elastic_viscous_force(n_el + n_visc, tension) + 0.0;
     const double fx = n_tot * nx + tx, fy = n_tot * ny + ty, fz = n_tot * nz + tz;
     b.fx[l] = fx;
     b.fy[l] = fy;

@@ -104,8 +104,7 @@ template <int dim> struct ContactLaw {
 
     // Normal elasticity and damping.
     const NormalResponse nr = normal_response(normal, g.overlap, g.effective_radius);
-    const double n_visc = applied_viscous_force(
-        damping.coefficient(g.effective_mass, nr.stiffness) * h_dot, nr.force, damping.tension);
+    const double n_visc = damping.coefficient(g.effective_mass, nr.stiffness) * h_dot;
 
     // Tangential: transport (App. B), Walton (App. A), increment (eq. 3), Coulomb.
     Vec<dim> t = transport_tangential<dim>(state.tangential_force,
@@ -128,7 +127,8 @@ template <int dim> struct ContactLaw {
 
     out.normal_elastic = nr.force;
     out.normal_attractive = cohesion ? -cohesion->f0 : 0.0;
-    out.normal_total = nr.force + n_visc + out.normal_attractive;
+    out.normal_total =
+        applied_elastic_viscous_force(nr.force + n_visc, damping.tension) + out.normal_attractive;
     out.tangential = t;
     out.force_on_j = out.normal_total * n + t;
     out.torque_j = moment<dim>(b_j, out.force_on_j);

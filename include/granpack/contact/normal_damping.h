@@ -18,10 +18,12 @@ inline double viscous_coefficient(double two_zeta, double m_eff, double k_n) {
   return two_zeta * std::sqrt(m_eff * k_n);
 }
 
-/// N^v as applied, given the elastic N^e: unchanged when the damping may pull (`tension`),
-/// else at least -N^e so that N^e + N^v >= 0. Shared by NormalDamping's users and the batch.
-inline double applied_viscous_force(double n_visc, double n_elastic, bool tension) {
-  return tension ? n_visc : std::max(n_visc, -n_elastic);
+/// N^e + N^v as applied: unchanged when the damping may pull (`tension`), else at least 0
+/// (N^v limited to -N^e). Applied to the sum, so that the default path computes N^e + N^v
+/// exactly as before the switch existed (same operations, same rounding, fused or not).
+/// Shared by ContactLaw::force and the batch.
+inline double applied_elastic_viscous_force(double n_elastic_plus_viscous, bool tension) {
+  return tension ? n_elastic_plus_viscous : std::max(n_elastic_plus_viscous, 0.0);
 }
 
 struct NormalDamping {
