@@ -188,6 +188,16 @@ int compare(const ContactLaw<3>& law, const std::vector<Case>& cases, double dt)
   return flagged;
 }
 
+/// The batch of `cases` after evaluate() with `law`'s constants (sums discarded).
+std::unique_ptr<HertzMindlinBatch> evaluated(const ContactLaw<3>& law,
+                                             const std::vector<Case>& cases, double dt) {
+  auto b = std::make_unique<HertzMindlinBatch>();
+  fill(*b, cases);
+  HertzMindlinSums sums;
+  evaluate(*HertzMindlinConstants::of(law), *b, cases.size(), dt, sums);
+  return b;
+}
+
 } // namespace
 
 TEST(HertzMindlinBatch, MatchesScalarLawOnDenseContacts) {
@@ -218,10 +228,7 @@ TEST(HertzMindlinBatch, DampingWithoutTensionStopsAtZeroNormalForce) {
   const ContactLaw<3> pulling = make_contact_law<3>(hertz_params(0.3, 0.98));
   const ContactLaw<3> pushing = make_contact_law<3>(hertz_params(0.3, 0.98, true, false));
   const auto cases = dense_cases(pulling, rng, 128);
-  auto b = std::make_unique<HertzMindlinBatch>();
-  fill(*b, cases);
-  HertzMindlinSums sums;
-  evaluate(*HertzMindlinConstants::of(pushing), *b, cases.size(), 1e-7, sums);
+  const auto b = evaluated(pushing, cases, 1e-7);
   int pulled = 0;
   for (std::size_t l = 0; l < cases.size(); ++l) {
     Case k = cases[l];
@@ -241,10 +248,7 @@ TEST(HertzMindlinBatch, SlidingContactsStayOnTheCone) {
   std::mt19937_64 rng(7);
   const ContactLaw<3> law = make_contact_law<3>(hertz_params(0.3, 0.98));
   const auto cases = dense_cases(law, rng, 128);
-  auto b = std::make_unique<HertzMindlinBatch>();
-  fill(*b, cases);
-  HertzMindlinSums sums;
-  evaluate(*HertzMindlinConstants::of(law), *b, cases.size(), 1e-7, sums);
+  const auto b = evaluated(law, cases, 1e-7);
   int sliding = 0;
   for (std::size_t l = 0; l < cases.size(); ++l) {
     if (!b->sliding[l])
