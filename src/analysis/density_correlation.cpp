@@ -148,6 +148,37 @@ ScatteringCurve scattering_function(const std::vector<std::uint8_t>& chi, const 
   return density_spectra(chi, L, nx, ny, k_max, bins, 0.0, 0.0).scattering;
 }
 
+ScatteringCurve pooled_scattering(std::span<const ScatteringCurve> curves) {
+  ScatteringCurve out;
+  const ScatteringCurve* ref = nullptr;
+  for (const auto& c : curves)
+    if (!ref || c.k.size() > ref->k.size())
+      ref = &c;
+  if (!ref || ref->k.empty())
+    return out;
+  std::vector<double> edges; // upper edges of the common bins but the last
+  for (std::size_t b = 0; b + 1 < ref->k.size(); ++b)
+    edges.push_back(std::sqrt(ref->k[b] * ref->k[b + 1]));
+  const std::size_t bins = ref->k.size();
+  std::vector<double> s(bins, 0), sk(bins, 0), w(bins, 0), e2(bins, 0);
+  for (const auto& c : curves)
+    for (std::size_t i = 0; i < c.k.size(); ++i) {
+      const auto b =
+          std::size_t(std::upper_bound(edges.begin(), edges.end(), c.k[i]) - edges.begin());
+      s[b] += c.count[i] * c.I[i], sk[b] += c.count[i] * c.k[i], w[b] += c.count[i];
+      e2[b] += c.count[i] * c.count[i] * c.I_error[i] * c.I_error[i];
+    }
+  for (std::size_t b = 0; b < bins; ++b) {
+    if (w[b] == 0)
+      continue;
+    out.k.push_back(sk[b] / w[b]);
+    out.I.push_back(s[b] / w[b]);
+    out.I_error.push_back(std::sqrt(e2[b]) / w[b]);
+    out.count.push_back(w[b]);
+  }
+  return out;
+}
+
 double legendre_p(double nu, double x) {
   GRANPACK_CHECK(x >= 0 && x <= 1, "legendre_p: need 0 <= x <= 1"); // x = 0: xi beyond double range
   const double y = 0.5 * (1 - x); // < 1/2: the series converges at least like 2^-n

@@ -7,37 +7,12 @@
 
 #include "granpack/analysis/density_correlation.h"
 #include "granpack/app/analysis_sections.h"
+#include "granpack/app/density_fit_json.h"
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/communicator.h"
 #include "granpack/comm/gather.h"
 
 namespace granpack {
-
-namespace {
-
-/// One fit's keys in units of a; the values are null when the fit is undetermined
-/// (`reason` says why), and `fractal_regime` is the condition of fractal_regime_failure.
-nlohmann::json fit_json(const FractalFit& f, double a, double l_cell) {
-  auto num = [&](double x) { return f.determined ? nlohmann::json(x) : nlohmann::json(nullptr); };
-  const std::string failure = fractal_regime_failure(f, a, l_cell);
-  // Phi l^(2-d_F) has the dimension of a length to the power 2 - d_F: in units of a, Phi
-  // (l/a)^(2-d_F).
-  return {{"d_F", num(f.d_f)},
-          {"d_F_error", num(f.d_f_error)},
-          {"xi_over_a", num(f.xi / a)},
-          {"xi_error_over_a", num(f.xi_error / a)},
-          {"amplitude_over_a_pow_2_minus_dF", num(f.amplitude / std::pow(a, 2 - f.d_f))},
-          {"l_over_a", num(f.length_l / a)},
-          {"rms_log_residual", f.rms_log_residual},
-          {"points", f.points},
-          {"converged", f.converged},
-          {"determined", f.determined},
-          {"reason", f.determined ? nlohmann::json(nullptr) : nlohmann::json(f.reason)},
-          {"fractal_regime", failure.empty()},
-          {"regime_failure", failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(failure)}};
-}
-
-} // namespace
 
 nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o) {
   const auto grains = gather_particles(v.particles(), v.world);
@@ -86,17 +61,18 @@ nlohmann::json analyze_density(const PackingView<2>& v, const DensityOptions& o)
     j["mesh"] = {{"nx", nx},
                  {"ny", ny},
                  {"spacing_over_a", L[0] / nx / a},
+                 {"cell_over_a", {L[0] / a, L[1] / a}},
                  {"phi_of_mesh", solid / double(chi.size())}};
     j["I_k"] = {
         {"k_times_a", k_a}, {"I_over_a2", I_a}, {"I_error_over_a2", e_a}, {"count", c.count}};
     j["C_r"] = {
         {"r_over_a", r_a}, {"C_minus_phi2", sp.correlation.C}, {"count", sp.correlation.count}};
-    j["fit_eq28"] = fit_json(f, a, l_cell);
+    j["fit_eq28"] = fractal_fit_json(f, a, l_cell);
     j["fit_eq28"]["constant_over_a2"] =
         f.determined ? nlohmann::json(f.constant / (a * a)) : nlohmann::json(nullptr);
     j["fit_eq28"]["k_range_times_a"] = {k_lo * a, k_max * a};
     j["fit_eq28"]["k_used_times_a"] = {f.lo * a, f.hi * a};
-    j["fit_eq27_real_space"] = fit_json(fr, a, l_cell);
+    j["fit_eq27_real_space"] = fractal_fit_json(fr, a, l_cell);
     j["fit_eq27_real_space"]["r_range_over_a"] = {o.r_min, 0.5 * l_cell / a};
     j["fit_eq27_real_space"]["r_used_over_a"] = {fr.lo / a, fr.hi / a};
     j["holes"] = {{"count", h.holes},

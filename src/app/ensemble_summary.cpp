@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "granpack/app/analyze.h"
+#include "granpack/app/density_fit_json.h"
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/communicator.h"
@@ -275,6 +276,17 @@ json summarize_samples(const std::vector<SampleDocuments>& samples) {
   summary["analysis"] = json::object();
   for (const auto& [stem, docs] : analyses)
     summary["analysis"][stem] = statistics_of(docs);
+  // 2D: the samples' I(k) pooled and fitted once ([GRC] fig. 23 and table VII), beside the
+  // statistics of the per-sample fits.
+  for (const auto& [stem, docs] : analyses) {
+    std::vector<json> density;
+    for (const auto* s : finished)
+      for (const auto& [name, doc] : s->analyses)
+        if (name == stem && doc.contains("density"))
+          density.push_back(doc["density"]);
+    if (!density.empty())
+      summary["density_pooled"][stem] = pooled_density_json(density);
+  }
   return summary;
 }
 

@@ -13,6 +13,10 @@
 #   give the same xi / R_g within 2 combined sd of 4-sample means (xi follows the blob size);
 # - covering lattices with three circular holes: <R>_w (eq. 30) within 0.2 % of the value the
 #   generator computes from the disks on a 10 times finer local raster; no other hole.
+# - the same blob samples as ensembles: `granpack ensemble` pools their I(k) (checked against the
+#   count-weighted mean recomputed here) and its one fit gives d_F within 0.1 and xi / R_g within
+#   the band of a 4-sample mean (measured: blobs 64 d_F 1.557 +- 0.013, xi/R_g 1.49; blobs 128
+#   1.519 +- 0.016, 1.94).
 # The check can fail: a fit window running past the grains' form factor (--fit-kmax 0.25,
 # k up to 8 pi / a) gives d_F ~ 2.04 on a blob set, which the same d_F check refuses.
 #
@@ -121,4 +125,53 @@ check(f"a window past the form factor (--fit-kmax 0.25) gives d_F {b['d_F']}, re
       not d_f_recovered(b, 1.515))
 PY
 checks_from "known-structure checks" "$scratch/py.txt" $?
+
+# The ensemble form ([GRC] fit the I(k) averaged over samples): the four blob samples of each
+# size laid out as an ensemble (sample_S/blobs.analysis.json), `granpack ensemble` pools their
+# I(k) and fits it once.
+for size in 64 128; do
+  for s in 1 2 3 4; do
+    mkdir -p "$scratch/ens$size/sample_$s"
+    echo '{"stages": []}' > "$scratch/ens$size/sample_$s/report.json"
+    cp "$scratch/blobs$size$s.json" "$scratch/ens$size/sample_$s/blobs.analysis.json"
+  done
+  check_exit "ensemble of blobs$size" 0 "$scratch/ens.txt" granpack_on 1 ensemble "$scratch/ens$size"
+done
+/usr/bin/python3 - "$scratch" > "$scratch/py2.txt" 2>&1 <<'PY'
+import json, math, sys
+from checks import check
+d = sys.argv[1]
+# xi / R_g of single-sample fits over seeds 1-8 (the calibration above): mean, sd.
+calibration = {64: (1.482, 0.330), 128: (2.026, 0.994)}
+for size in (64, 128):
+    e = json.load(open(f"{d}/ens{size}/ensemble.json"))["density_pooled"]["blobs"]
+    docs = [json.load(open(f"{d}/blobs{size}{s}.json"))["density"] for s in (1, 2, 3, 4)]
+    known = [json.load(open(f"{d}/blobs{size}{s}.known.json")) for s in (1, 2, 3, 4)]
+    check(f"blobs{size}: K = {e['K']} (4)", e["K"] == 4)
+    # Same cell in every sample: the pooled bins are the samples' bins, each the count-weighted
+    # mean, recomputed here.
+    ks = [x["I_k"]["k_times_a"] for x in docs]
+    same = all(len(k) == len(ks[0]) and all(abs(u / v - 1) < 1e-12 for u, v in zip(k, ks[0])) for k in ks)
+    check(f"blobs{size}: the samples share their k bins", same)
+    worst = 0.0
+    for b in range(len(ks[0])):
+        w = sum(x["I_k"]["count"][b] for x in docs)
+        mean = sum(x["I_k"]["count"][b] * x["I_k"]["I_over_a2"][b] for x in docs) / w
+        worst = max(worst, abs(e["I_k"]["I_over_a2"][b] / mean - 1))
+    check(f"blobs{size}: pooled I(k) is the count-weighted mean of the samples' (worst {worst:.1e})",
+          len(e["I_k"]["k_times_a"]) == len(ks[0]) and worst < 1e-12)
+    f = e["fit_eq28"]
+    r_g = sum(k["R_g_over_a"] for k in known) / 4
+    d_f = known[0]["d_F"]
+    check(f"blobs{size}: pooled fit determined ({f['reason']})", f["determined"])
+    if f["determined"]:
+        ratio = f["xi_over_a"] / r_g
+        mean, sd = calibration[size]
+        print(f"blobs{size}: pooled d_F {f['d_F']:.3f} +- {f['d_F_error']:.3f}, xi {f['xi_over_a']:.2f} +- "
+              f"{f['xi_error_over_a']:.2f} a, xi/R_g {ratio:.3f}")
+        check(f"blobs{size}: pooled d_F {f['d_F']:.3f} within 0.1 of {d_f}", abs(f["d_F"] - d_f) < 0.1)
+        check(f"blobs{size}: pooled xi/R_g {ratio:.3f} within {mean} +- {sd:.3f} (2 sd of a 4-sample mean)",
+              abs(ratio - mean) < 2 * sd / 2)
+PY
+checks_from "ensemble I(k) checks" "$scratch/py2.txt" $?
 checks_done known_structures

@@ -212,6 +212,29 @@ TEST(DensityCorrelation, HolesAndTheirEquivalentRadii) {
               (1e4 * square(100, 0.01) + 100 * square(10, 0.01)) / (1e4 + 100), 1e-12);
 }
 
+TEST(DensityCorrelation, PooledCurveCountsEveryWaveVectorOnce) {
+  // Two samples on the same bins: the pooled bin is the count-weighted mean. A third whose cell
+  // is 3 % larger puts its points in the bins holding their k.
+  ScatteringCurve a{{1.0, 2.0, 4.0}, {10.0, 5.0, 1.0}, {1.0, 0.5, 0.1}, {4, 8, 16}};
+  ScatteringCurve b{{1.0, 2.0, 4.0}, {20.0, 3.0, 3.0}, {2.0, 0.3, 0.2}, {4, 8, 16}};
+  ScatteringCurve c{{0.97, 1.94}, {6.0, 7.0}, {1.0, 1.0}, {2, 8}};
+  const std::vector<ScatteringCurve> curves = {a, b, c};
+  const ScatteringCurve p = pooled_scattering(curves);
+  ASSERT_EQ(p.k.size(), 3u);
+  EXPECT_DOUBLE_EQ(p.count[0], 10.0);
+  EXPECT_DOUBLE_EQ(p.I[0], (4 * 10.0 + 4 * 20.0 + 2 * 6.0) / 10.0);
+  EXPECT_DOUBLE_EQ(p.k[0], (4 * 1.0 + 4 * 1.0 + 2 * 0.97) / 10.0);
+  EXPECT_DOUBLE_EQ(p.I[1], (8 * 5.0 + 8 * 3.0 + 8 * 7.0) / 24.0);
+  EXPECT_DOUBLE_EQ(p.I[2], 2.0);
+  EXPECT_DOUBLE_EQ(p.I_error[2], std::hypot(16 * 0.1, 16 * 0.2) / 32.0);
+  // One sample pools to itself.
+  const std::vector<ScatteringCurve> one = {a};
+  const ScatteringCurve q = pooled_scattering(one);
+  EXPECT_EQ(q.I, a.I);
+  EXPECT_EQ(q.k, a.k);
+  EXPECT_TRUE(pooled_scattering({}).k.empty());
+}
+
 } // namespace
 } // namespace granpack
 

@@ -49,6 +49,16 @@ struct ScatteringCurve {
 ScatteringCurve scattering_function(const std::vector<std::uint8_t>& chi, const Vec<2>& L, int nx,
                                     int ny, double k_max, int bins);
 
+/// The I(k) of several samples pooled as one curve ([GRC] fig. 23 averages samples before
+/// fitting): the bins of the curve with the most points are the common bins (edges at the
+/// geometric means of its neighbouring k), every sample's bin goes to the common bin holding its
+/// k, and each common bin is the count-weighted mean of what it receives (every wave vector of
+/// every sample counts once), with count the total and the error propagated from the samples'
+/// bin errors. Samples whose cells differ by less than a bin width (2-7 % here) share bins
+/// exactly; larger differences only shift a sample's points by up to half a bin. Empty input:
+/// empty curve.
+ScatteringCurve pooled_scattering(std::span<const ScatteringCurve> curves);
+
 struct CorrelationCurve {
   std::vector<double> r;     ///< bin centres (mean |r| of the bin's mesh vectors), m
   std::vector<double> C;     ///< mean C(r) - Phi^2 in the bin (Phi of the mesh)
