@@ -15,7 +15,9 @@
 #   Voigt >= Reuss for B and G, relaxed <= affine for B and G, mean k_n = 3 N / (2 h);
 # - jobs/tools/ensemble_moduli.py on synthetic stiffness JSONs: mean, sd (ddof = 1), K, G/B
 #   per sample, z* = 2 N_c* / n*, non-affine fractions, an invalid sample excluded, K = 1 with
-#   sd null, the JSON summary, bad input exit 2.
+#   sd null, the JSON summary, bad input exit 2;
+# - the committed docs/data/ensembles/moduli.json is what this build computes for D and A at 1 MPa
+#   (rerun jobs/runs/ar_moduli.sh and jobs/tools/ensemble_moduli.py when the physics changes).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
@@ -102,6 +104,20 @@ jd = json.load(open(f"{d}/D.json"))
 gio_p["D"] = p = gio.read_packing(f"{data}/D_n4000_seed1.h5")
 check("D: frictional", jd["friction"] > 0)
 common("D", jd, hm.HertzNetwork(p, jd["force_threshold"], jd["rattler_grains"]))
+
+# The committed table (docs/data/ensembles/moduli.json) is what this build computes: the D row
+# and the 1 MPa level of the pressure series, recomputed here (1e-8; 1 and 2 ranks agree to 1e-13).
+sys.path.insert(0, tools)
+import ensemble_moduli as em
+committed = json.load(open(f"{data}/ensembles/moduli.json"))
+row = committed["states"]["D (docs/data)"]["quantities"]
+level = [r for r in committed["pressure_series"] if r["file"] == "A_n1372_seed1_level4.json"]
+check("moduli.json has the D row and the 1 MPa A level", row["B_V"]["values"] and len(level) == 1)
+for tag, j, ref in (("D", jd, {q: row[q]["values"][0] for q in row}), ("A 1 MPa", ja, level[0] if level else {})):
+    now, _ = em.sample_values(f"{d}/{'D' if tag == 'D' else 'A'}.json")
+    for q in ("B_V", "B_R", "G_V", "G_R", "nonaffine_G", "z_star", "k"):
+        check(f"{tag}: committed {q} {ref.get(q)} = this build's {now[q]}",
+              ref.get(q) is not None and abs(ref[q] - now[q]) <= 1e-8 * abs(now[q]))
 PY
 checks_from "the moduli checks" "$scratch/py.txt" $?
 
