@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# Elastic moduli of every committed [AR] configuration (issue 28; docs/stiffness.md, "Moduli of
+# the [AR] ensembles"): `granpack stiffness FILE --json` on one rank, one file after the other,
+# into OUT (default out/moduli):
+#   OUT/ens/<state>/sample_<k>.json   the finished samples of the committed ensembles,
+#                                     jobs/runs/ar_ensembles/<state>/sample_<k>/final.h5
+#                                     (a sample with only a checkpoint, an unfinished run,
+#                                     is listed and skipped: it is not an equilibrium state)
+#   OUT/single/<stem>.json            docs/data/<stem>.h5, one sample per state (A, A', C, D:
+#                                     the only committed configurations of those states)
+#   OUT/fig3/<stem>.json              docs/data/fig3/<stem>.h5, A at n = 1372 from 100 Pa to 1 MPa
+# Restartable: a file whose JSON exists is skipped (the JSON is written under a temporary name
+# and renamed when the run succeeded), so the same command continues an interrupted sweep.
+# Then `jobs/tools/ensemble_moduli.py OUT` tabulates them.
+#   bash jobs/runs/ar_moduli.sh [OUT]
+# GRANPACK=path/to/granpack (default build/granpack); STATES="B Z" restricts the ensembles;
+# PARTS="ens single fig3" restricts what is run.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+out=${1:-$root/out/moduli}
+exe=${GRANPACK:-$root/build/granpack}
+states=${STATES:-B Z D_10kPa D_10kPa_zeta0.098 D_100kPa}
+parts=${PARTS:-ens single fig3}
+[ -x "$exe" ] || { echo "ar_moduli: no granpack executable at $exe (set GRANPACK)" >&2; exit 2; }
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_hwloc_base_binding_policy=${OMPI_MCA_hwloc_base_binding_policy:-none}
+# One BLAS thread: the machine is shared, and one solve at a time is the rule (docs/stiffness.md).
+export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
+
+ran=0 skipped=0 failed=0
+# stiffness IN.h5 OUT.json: one run, unless OUT.json exists.
+stiffness() {
+  local in=$1 json=$2
+  if [ -s "$json" ]; then skipped=$((skipped + 1)); return 0; fi
+  mkdir -p "$(dirname "$json")"
+  local t0=$SECONDS
+  if nice -n 10 mpirun -np 1 "$exe" stiffness "$in" --json "$json.tmp" \
+      > "${json%.json}.txt" 2>&1 < /dev/null; then
+    mv "$json.tmp" "$json"
+    ran=$((ran + 1))
+    echo "[ar_moduli] ${json#"$out"/}: $((SECONDS - t0)) s"
+  else
+    rm -f "$json.tmp"
+    failed=$((failed + 1))
+    echo "[ar_moduli] FAILED on $in (log ${json%.json}.txt):" >&2
+    tail -5 "${json%.json}.txt" >&2
+  fi
+}
+
+for g in $parts; do
+  case $g in
+    ens)
+      for s in $states; do
+        for d in "$root"/jobs/runs/ar_ensembles/"$s"/sample_*; do
+          [ -d "$d" ] || continue
+          if [ -e "$d/final.h5" ]; then
+            stiffness "$d/final.h5" "$out/ens/$s/$(basename "$d").json"
+          else
+            echo "[ar_moduli] $s/$(basename "$d"): no final.h5, only a checkpoint (an unfinished run, not an equilibrium state): skipped"
+          fi
+        done
+      done ;;
+    single)
+      for f in "$root"/docs/data/*_n4000_seed*.h5; do
+        stiffness "$f" "$out/single/$(basename "$f" .h5).json"
+      done ;;
+    fig3)
+      for f in "$root"/docs/data/fig3/*.h5; do
+        stiffness "$f" "$out/fig3/$(basename "$f" .h5).json"
+      done ;;
+    *) echo "ar_moduli: unknown group '$g' (ens, single, fig3)" >&2; exit 2 ;;
+  esac
+done
+echo "[ar_moduli] $ran run, $skipped already there, $failed failed; results in $out"
+[ "$failed" -eq 0 ]
