@@ -20,7 +20,8 @@ namespace granpack {
 
 namespace {
 
-constexpr char kMagic[8] = {'G', 'P', 'H', 'S', 'M', 'D', '0', '1'};
+// Version 02 adds the neighbour lists; a version 01 state (no lists) is still read.
+constexpr char kMagic[8] = {'G', 'P', 'H', 'S', 'M', 'D', '0', '2'};
 
 class Writer {
 public:
@@ -130,15 +131,32 @@ template <int dim> std::vector<std::uint8_t> HardSphereMD<dim>::save_state() con
   w.pod(k_track_);
   w.pod(t_kin_);
   w.pod(growth_);
+  w.pod(nl_);
+  if (nl_) {
+    w.pod(shell_);
+    for (const Vec<dim>& c : ctr_)
+      w.vec(c);
+    w.pod(static_cast<std::int32_t>(nb_cap_));
+    w.vec(nb_count_);
+    // Only the occupied entries: their order within a list matters, the rest is unused.
+    for (std::size_t i = 0; i < nb_count_.size(); ++i)
+      for (int m = 0; m < nb_count_[i]; ++m)
+        w.pod(nb_[i * nb_cap_ + m]);
+  }
   return std::move(w.out);
 }
 
 template <int dim>
 HardSphereMD<dim> HardSphereMD<dim>::restore_state(const std::vector<std::uint8_t>& state) {
   Reader r(state);
-  for (char c : kMagic)
-    if (r.pod<char>() != c)
+  bool v1 = false;
+  for (int k = 0; k < 8; ++k) {
+    const char c = r.pod<char>();
+    if (k == 7 && c == '1')
+      v1 = true;
+    else if (c != kMagic[k])
       Reader::fail("wrong signature");
+  }
   if (r.pod<std::int32_t>() != dim)
     Reader::fail("saved by an engine of another dimension");
   HardSphereMD md;
@@ -230,6 +248,28 @@ HardSphereMD<dim> HardSphereMD<dim>::restore_state(const std::vector<std::uint8_
   md.k_track_ = r.pod<double>();
   md.t_kin_ = r.pod<double>();
   md.growth_ = r.pod<Growth>();
+  md.nl_ = !v1 && r.pod<bool>();
+  if (md.nl_) {
+    md.shell_ = r.pod<double>();
+    md.ctr_.resize(static_cast<std::size_t>(n));
+    for (auto& c : md.ctr_)
+      c = r.vecd<dim>();
+    md.nb_cap_ = r.pod<std::int32_t>();
+    if (md.nb_cap_ < 1 || md.nb_cap_ > n + 32)
+      Reader::fail("a bad neighbour list capacity");
+    md.nb_count_ = r.vec<std::int32_t>(n, "the neighbour counts");
+    md.nb_.assign(static_cast<std::size_t>(n) * md.nb_cap_, -1);
+    for (std::int64_t i = 0; i < n; ++i) {
+      if (!in_range(md.nb_count_[i], 0, md.nb_cap_ + 1))
+        Reader::fail("a neighbour list of " + std::to_string(md.nb_count_[i]) + " grains");
+      for (int m = 0; m < md.nb_count_[i]; ++m) {
+        const auto k = r.pod<std::int32_t>();
+        if (!in_range(k, 0, n) || k == i)
+          Reader::fail("a neighbour out of range");
+        md.nb_[i * md.nb_cap_ + m] = k;
+      }
+    }
+  }
   if (!r.at_end())
     Reader::fail("trailing bytes");
   md.out_pos_.resize(md.st_.size());

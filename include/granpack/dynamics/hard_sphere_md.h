@@ -15,6 +15,10 @@
 //   along an axis that fits fewer than 4 cells the whole axis is one cell (all pairs), and
 //   grains re-predict after every (L/2 - d)/2 of travel along it so the minimum image of a
 //   pair cannot switch unnoticed;
+// - at fixed radii (and >= 4 cells of side d_max (1 + 2 * 0.25) per axis) neighbour lists
+//   instead: each grain is predicted only against the grains whose list centres are closer
+//   than r_i + r_j + 2h, and leaving the sphere of radius h around its own centre (a "shell
+//   exit", in place of the cell crossings) rebuilds its list;
 // - the calendar holds ONE event per grain (the earlier of its best collision and its next
 //   cell crossing) in an indexed binary heap; a collision prediction stores the partner's
 //   collision counter, and is recognised as stale (and re-predicted) when popped if that
@@ -166,13 +170,23 @@ private:
   double crossing_time(int i, std::int32_t& cross) const;
   int gather(const std::array<int, dim>& c, int fixed_axis, int fixed_coord, int skip);
   template <bool growing>
-  void best_collision(const Vec<dim>& xi, const Vec<dim>& vi, double rbi, int n, double& best,
-                      int& partner) const;
+  void best_collision(const Vec<dim>& xi, const Vec<dim>& vi, double rbi, const std::int32_t* cand,
+                      int n, double& best, int& partner) const;
+  void scan(int i, const std::int32_t* cand, int n, bool keep);
   void scan_full(int i);
   void scan_slab(int i, int axis, int coord);
   void predict_all();
   template <class F>
   void for_stencil(const std::array<int, dim>& c, int fixed_axis, int fixed_coord, F&& f) const;
+
+  // --- neighbour lists (fixed radii; docs/event-driven.md)
+  bool nl_possible() const;
+  void nl_build();
+  void nl_rebuild(int i);
+  void nl_link(int i, int above);
+  void nl_add(int i, int k);
+  void nl_unlink(int i);
+  double shell_exit_time(int i) const;
 
   // --- cells
   void build_cells(double d_allow);
@@ -222,6 +236,17 @@ private:
   std::vector<std::int32_t> count_in_, members_, cell_of_, slot_in_cell_;
   std::vector<std::array<int, dim>> cc_; ///< slab coordinates of each grain
   std::vector<std::int32_t> cand_;       ///< scratch: grains of a stencil
+
+  // Neighbour lists (nl_ true: fixed radii, every axis >= 4 cells of side >= d_max + 2 h).
+  // Each grain stays within shell_ (h) of its centre ctr_ (its position when its list was last
+  // built; a "shell exit" event rebuilds the list); its list holds every grain whose centre is
+  // closer than the sum of radii + 2 h, so no other grain can touch it. The lists are symmetric.
+  // The cells then hold the centres, and there are no cell crossings.
+  bool nl_ = false;
+  double shell_ = 0.0;
+  std::vector<Vec<dim>> ctr_;
+  int nb_cap_ = 0;                          ///< neighbours of i: nb_[i * nb_cap_ + m]
+  std::vector<std::int32_t> nb_count_, nb_; ///< m < nb_count_[i]
 
   double t_now_ = 0.0;
   double t0_ = 0.0;   ///< growth origin
