@@ -85,6 +85,10 @@ std::string configuration_grid(const XdmfParticles& p) {
        << attribute("carrying_contacts", "Scalar", "Node", n, "Float", "/network/carrying_contacts")
        << attribute("net_force", "Vector", "Node", nd, "Float", "/network/net_force")
        << attribute("mean_stress", "Scalar", "Node", n, "Float", "/network/mean_stress")
+       // 3D: a Tensor of 9 (ParaView's tensor glyphs, eigenvalues); 2D: 4 components, read by
+       // ParaView as a plain 4-component array ("Tensor" insists on 9).
+       << attribute("stress", p.dimension == 2 ? "Matrix" : "Tensor", "Node",
+                    n + (p.dimension == 2 ? " 4" : " 9"), "Float", "/network/stress")
        << attribute("rattler", "Scalar", "Node", n, "Float", "/network/rattler");
   os << ind << "    </Grid>\n";
   if (lines) {

@@ -125,6 +125,17 @@ if nw:
     np.add.at(share, p.i, w)
     np.add.at(share, p.j, w)
     check("per-grain mean stress", np.allclose(nw["mean_stress"], share / (3 * vg), rtol=1e-12, atol=1e-9 * P))
+    sg = nw["stress"].reshape(p.n, 3, 3)
+    half = 0.5 * np.einsum("ka,kb->kab", p.contact_force, p.branch)
+    mine = np.zeros((p.n, 3, 3))
+    np.add.at(mine, p.i, half)
+    np.add.at(mine, p.j, half)
+    check("per-grain stress tensor = (1/V_g) sum f (x) r_12 / 2 (recomputed)",
+          nw["stress"].shape == (p.n, 9) and np.allclose(sg, mine / vg[:, None, None], rtol=1e-12, atol=1e-9 * P))
+    check("tr(stress)/3 = mean_stress", np.allclose(np.trace(sg, axis1=1, axis2=2) / 3, nw["mean_stress"], rtol=0, atol=1e-9 * P))
+    total = np.einsum("g,gab->ab", vg, sg) / p.volume
+    check(f"sum of V_g stress_g / V = the cell's stress (max difference {np.abs(total - p.stress()).max():.3g} Pa)",
+          np.allclose(total, p.stress(), rtol=0, atol=1e-9 * P))
     rat = p.rattlers()
     check(f"rattler flags of the iterated rule ({int(nw['rattler'].sum())} of {p.n}) = the reader's rattlers()",
           np.array_equal(nw["rattler"] == 1, rat) and rat.sum() > 0)
