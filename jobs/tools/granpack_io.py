@@ -53,7 +53,7 @@ UNITS = {
 DERIVED_UNITS = {
     "branch": "m", "distance": "m", "normal": "1", "overlap": "m", "attraction": "N",
     "total_normal_force": "N", "contact_force": "N", "tangential_magnitude": "N",
-    "coordination": "1", "net_force": "N", "net_moment": "N m", "stress": "Pa",
+    "coordination": "1", "cluster_ids": "1", "net_force": "N", "net_moment": "N m", "stress": "Pa",
     "pressure": "Pa", "phi": "1", "volume": "m^dim",
 }
 # Units of the report's stage entries (docs/report.md).
@@ -298,6 +298,20 @@ class Packing:
             keep &= self.contacts["normal_force"] > 0
         return (np.bincount(self.i[keep], minlength=self.n) +
                 np.bincount(self.j[keep], minlength=self.n))
+
+    def cluster_ids(self):
+        """Each grain's cluster in the stored interaction network (every contact, distant
+        cohesive pairs included): the smallest id among the grains joined to it, as
+        /network/cluster_id. Returns an int64 array (n)."""
+        label = self.grains["id"].astype(np.int64).copy()
+        while True:  # each pass moves the smallest id one contact further
+            m = np.minimum(label[self.i], label[self.j])
+            new = label.copy()
+            np.minimum.at(new, self.i, m)
+            np.minimum.at(new, self.j, m)
+            if np.array_equal(new, label):
+                return label
+            label = new
 
     def net_force(self):
         """Sum of the contact forces on each grain (n, dim), N (viscous parts not stored)."""

@@ -89,7 +89,10 @@ std::string configuration_grid(const XdmfParticles& p) {
        // ParaView as a plain 4-component array ("Tensor" insists on 9).
        << attribute("stress", p.dimension == 2 ? "Matrix" : "Tensor", "Node",
                     n + (p.dimension == 2 ? " 4" : " 9"), "Float", "/network/stress")
-       << attribute("rattler", "Scalar", "Node", n, "Float", "/network/rattler");
+       << attribute("rattler", "Scalar", "Node", n, "Float", "/network/rattler")
+       << attribute("cluster_id", "Scalar", "Node", n, "Int", "/network/cluster_id")
+       << attribute("bond_order", "Scalar", "Node", n, "Float", "/network/bond_order")
+       << attribute("crystalline", "Scalar", "Node", n, "Float", "/network/crystalline");
   os << ind << "    </Grid>\n";
   if (lines) {
     const std::string nc = std::to_string(p.n_network_contacts);

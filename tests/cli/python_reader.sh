@@ -151,6 +151,17 @@ if nw:
     check(f"strong flags: N > <N> over the compressive contacts ({int(nw['strong'].sum())} of {p.nc})",
           np.array_equal(nw["strong"] == 1, strong) and 0 < strong.sum() < p.nc)
     check("units of /network", p.units.get("network/point") == "m" and p.units.get("network/net_force") == "N")
+if nw:
+    cid = p.cluster_ids()
+    print(f"{len(np.unique(nw['cluster_id']))} clusters, the largest of {np.bincount(np.unique(cid, return_inverse=True)[1]).max()} grains")
+    check("cluster ids across ranks = the reader's cluster_ids() (smallest id of each cluster)",
+          nw["cluster_id"].dtype == np.int64 and np.array_equal(nw["cluster_id"], cid))
+    order = gio.read_analysis(f"{out}/analysis.json")["order"]["1.40"]
+    q6 = nw["bond_order"]
+    check(f"mean bond_order (Q6) over grains with bonds {q6[q6 > 0].mean():.12f} = analyze's Q6_local_mean "
+          f"{order['Q6_local_mean']:.12f}", abs(q6[q6 > 0].mean() - order["Q6_local_mean"]) < 1e-12)
+    check(f"crystalline fraction {nw['crystalline'].mean()} = analyze's {order['crystalline_fraction']}",
+          abs(nw["crystalline"].mean() - order["crystalline_fraction"]) < 1e-12)
 t = rep.stage_table()
 check("stage table: names, phi and pressure arrays", list(t["kind"]) == ["random", "compress"]
       and abs(t["phi"][-1] - p.phi) < 1e-9 and t["pressure"].shape == (2,) and rep.units["pressure"] == "Pa")

@@ -64,6 +64,18 @@ template <int dim> struct NetworkFields {
   /// Per owned grain: 1 for a rattler of the iterated rule, else 0. Not filled by
   /// contact_network (the rule runs across ranks: engine/network_fields.h).
   std::vector<double> rattler;
+  /// Per owned grain: its cluster, the smallest id among the grains joined to it by the stored
+  /// contacts (distant cohesive pairs included, as the aggregation of [GRC] counts clusters:
+  /// comm/clusters.h); a grain without contacts is its own cluster. Not filled by
+  /// contact_network (clusters span ranks: engine/network_fields.h, comm/cluster_ids.h).
+  std::vector<std::int64_t> cluster_id;
+  /// Per owned grain: local bond-orientational order within kOrderCutoff a
+  /// (analysis/local_order.h), Q6 in 3D, |psi6| in 2D; 0 without bonds. Not filled by
+  /// contact_network.
+  std::vector<double> bond_order;
+  /// Per owned grain: 1 for a crystalline grain (3D: [AR] eq. 34, at least 7 crystalline bonds;
+  /// 2D: |psi6| >= kCrystallinePsi6), else 0. Not filled by contact_network.
+  std::vector<double> crystalline;
   std::int64_t missing = 0; ///< contacts whose grains are not both local (nothing computed)
 };
 
