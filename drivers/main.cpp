@@ -132,6 +132,15 @@ int main(int argc, char** argv) {
       ->add_option("--eigenvalues", stiffness_eigenvalues,
                    "smallest eigenvalues of the stiffened K(1) to report (default 6)")
       ->check(CLI::Range(1, 1000));
+  int stiffness_modes = 0;
+  std::string modes_file;
+  stiffness_cmd
+      ->add_option("--modes", stiffness_modes,
+                   "write the K softest modes of the stiffened K(1) as displacement fields "
+                   "(needs --modes-file)")
+      ->check(CLI::Range(1, 1000));
+  stiffness_cmd->add_option("--modes-file", modes_file,
+                            "HDF5 file for --modes (an XDMF sidecar is written beside it)");
   granpack::BenchOptions bench;
   std::string bench_data, bench_forces, bench_json;
   auto* bench_cmd =
@@ -256,6 +265,11 @@ int main(int argc, char** argv) {
       s.threshold = stiffness_threshold;
       s.null_pivot_threshold = null_pivot_threshold;
       s.eigenvalues = stiffness_eigenvalues;
+      if ((stiffness_modes > 0) != !modes_file.empty())
+        throw granpack::InputError("stiffness: --modes and --modes-file go together");
+      s.modes = stiffness_modes;
+      if (!modes_file.empty())
+        s.modes_file = modes_file;
       if (!json_out.empty())
         s.json = json_out;
       granpack::stiffness_file(MPI_COMM_WORLD, s);

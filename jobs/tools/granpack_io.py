@@ -53,7 +53,7 @@ UNITS = {
 DERIVED_UNITS = {
     "branch": "m", "distance": "m", "normal": "1", "overlap": "m", "attraction": "N",
     "total_normal_force": "N", "contact_force": "N", "tangential_magnitude": "N",
-    "coordination": "1", "net_force": "N", "net_moment": "N m", "stress": "Pa",
+    "coordination": "1", "cluster_ids": "1", "net_force": "N", "net_moment": "N m", "stress": "Pa",
     "pressure": "Pa", "phi": "1", "volume": "m^dim",
 }
 # Units of the report's stage entries (docs/report.md).
@@ -299,6 +299,20 @@ class Packing:
         return (np.bincount(self.i[keep], minlength=self.n) +
                 np.bincount(self.j[keep], minlength=self.n))
 
+    def cluster_ids(self):
+        """Each grain's cluster in the stored interaction network (every contact, distant
+        cohesive pairs included): the smallest id among the grains joined to it, as
+        /network/cluster_id. Returns an int64 array (n)."""
+        label = self.grains["id"].astype(np.int64).copy()
+        while True:  # each pass moves the smallest id one contact further
+            m = np.minimum(label[self.i], label[self.j])
+            new = label.copy()
+            np.minimum.at(new, self.i, m)
+            np.minimum.at(new, self.j, m)
+            if np.array_equal(new, label):
+                return label
+            label = new
+
     def net_force(self):
         """Sum of the contact forces on each grain (n, dim), N (viscous parts not stored)."""
         f = self.contact_force
@@ -462,6 +476,28 @@ def read_analysis(path):
     return _arrays(d)
 
 
+def read_modes(path):
+    """`granpack stiffness --modes K --modes-file FILE.h5` (docs/stiffness.md) -> dict:
+    'eigenvalues' (K, over <k_n>, ascending), 'id', 'position' (n, dim; m), 'radius', 'backbone'
+    (n, bool: off the backbone a grain is at rest in every mode), 'displacement' (K, n, dim),
+    'rotation' (K, n, 3 in 3D, K, n in 2D; rad; None without rotations), 'rotation_length'
+    (ell: each mode has unit norm in (u, theta ell)), 'mean_kn', 'dimension'."""
+    with _open_h5(path) as f:
+        if _text(f.attrs.get("kind", "")) != "stiffness_modes":
+            raise GranpackFileError(f"{path}: not a stiffness modes file (kind != stiffness_modes)")
+        d = _h5_to_dict(f)
+    m, g = d["modes"], d["grains"]
+    k = len(m["eigenvalue_over_mean_kn"])
+    rot = [m[str(i)].get("rotation") for i in range(k)]
+    return {"eigenvalues": np.asarray(m["eigenvalue_over_mean_kn"]),
+            "id": np.asarray(g["id"]).astype(np.int64), "position": np.asarray(g["position"]),
+            "radius": np.asarray(g["radius"]), "backbone": np.asarray(g["backbone"]) == 1,
+            "displacement": np.array([m[str(i)]["displacement"] for i in range(k)]),
+            "rotation": None if k == 0 or rot[0] is None else np.array(rot),
+            "rotation_length": float(d["rotation_length"]), "mean_kn": float(d["mean_kn"]),
+            "dimension": int(d["dimension"])}
+
+
 class Report:
     """report.json of a run: raw (the dict), stages (list of dicts) and stage_table()."""
 
@@ -526,7 +562,7 @@ def read_ensemble(path):
 
 def read(path):
     """Any granpack file, by content: a packing (.h5 with format = granpack), an analysis (.h5
-    otherwise, or JSON with 'phi'), a report (JSON with 'stages'), a stiffness result (JSON with
+    otherwise, or JSON with 'phi'), `stiffness --modes` fields (.h5, kind = stiffness_modes), a report (JSON with 'stages'), a stiffness result (JSON with
     'mechanisms') or an ensemble (JSON with format = granpack-ensemble)."""
     if str(path).endswith((".h5", ".hdf5")):
         with _open_h5(path) as f:
@@ -534,7 +570,8 @@ def read(path):
                 if _text(f.attrs.get("kind", "")) == "trajectory":
                     return Trajectory(path, f)
                 return Packing(path, f)
-        return read_analysis(path)
+            modes = _text(f.attrs.get("kind", "")) == "stiffness_modes"
+        return read_modes(path) if modes else read_analysis(path)
     d = _read_json(path)
     if isinstance(d, dict):
         if d.get("format") == "granpack-ensemble":

@@ -22,6 +22,8 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
   f.mean_stress.assign(n, 0.0);
   for (auto& c : f.net_force)
     c.assign(n, 0.0);
+  for (auto& c : f.stress)
+    c.assign(n, 0.0);
   // Local index of each id: the owned copy first (emplace keeps it), else any ghost image.
   std::unordered_map<GlobalId, std::size_t> index;
   index.reserve(n);
@@ -69,6 +71,14 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
     const double half_virial = 0.5 * on_second.dot(r); // each grain's share of f.r_12
     f.mean_stress[i] += half_virial / (dim * grain_volume<dim>(p.radius[i]));
     f.mean_stress[j] += half_virial / (dim * grain_volume<dim>(p.radius[j]));
+    // The tensor the same way: half of f (x) r_12 to each grain, over its own volume.
+    const double vi = grain_volume<dim>(p.radius[i]), vj = grain_volume<dim>(p.radius[j]);
+    for (int row = 0; row < dim; ++row)
+      for (int col = 0; col < dim; ++col) {
+        const double half = 0.5 * on_second[row] * r[col];
+        f.stress[row * dim + col][i] += half / vi;
+        f.stress[row * dim + col][j] += half / vj;
+      }
   }
   return f;
 }

@@ -11,6 +11,7 @@
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/communicator.h"
 #include "granpack/comm/gather.h"
+#include "granpack/comm/qbar_exchange.h"
 #include "granpack/comm/reduce.h"
 
 namespace granpack {
@@ -38,27 +39,7 @@ OrderAtCutoff order_at(const PackingView<3>& v, double dc_over_a) {
     q6[i] = local_q(hood[i], 6);
     q4[i] = local_q(hood[i], 4);
   }
-  // Normalised q6 of every local grain: owners' values copied to the ghosts, component-wise.
-  constexpr int nm = 13;
-  std::vector<std::vector<double>> comp(2 * nm, std::vector<double>(p.size(), 0.0));
-  for (std::size_t i = 0; i < nown; ++i) {
-    const QlmVector qb = q6[i].normalized();
-    for (int m = 0; m < nm; ++m) {
-      comp[2 * m][i] = qb[std::size_t(m)].real();
-      comp[2 * m + 1][i] = qb[std::size_t(m)].imag();
-    }
-  }
-  for (auto& c : comp)
-    v.halo.forward_values(c, *v.decomposition);
-  QBarTable table(6);
-  std::vector<std::complex<double>> q(nm);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!table.find(p.id[i]).empty())
-      continue; // periodic images of the same grain
-    for (int m = 0; m < nm; ++m)
-      q[std::size_t(m)] = {comp[2 * m][i], comp[2 * m + 1][i]};
-    table.insert(p.id[i], q);
-  }
+  const QBarTable table = exchange_qbar(p, q6, v.halo, *v.decomposition);
   BondOrderTally tally;
   std::vector<double> cluster_data; // id, number of crystalline neighbours, their ids
   OrderAtCutoff out;

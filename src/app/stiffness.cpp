@@ -18,6 +18,7 @@
 #include "granpack/analysis/force_statistics.h"
 #include "granpack/app/analysis_sections.h"
 #include "granpack/app/stiffness_elastic_report.h"
+#include "granpack/app/stiffness_modes.h"
 #include "granpack/comm/allgather.h"
 #include "granpack/comm/communicator.h"
 #include "granpack/comm/reduce.h"
@@ -157,6 +158,8 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   double eigen_seconds = 0;
   const std::vector<double> eig =
       smallest_eigenvalues(s.k1.uu, k1f, opt.eigenvalues, s.mean_kn, &eigen_seconds);
+  if (opt.modes > 0)
+    write_stiffness_modes(v, s, k1f, opt.modes, opt.modes_file.value());
   const Moduli<dim> m1 = !own_k1 ? mm
                                  : condense<dim>(
                                        s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); }, s.layout,
@@ -241,6 +244,7 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   j["pinned_grain"] = km.pinned_grain;
   j["negative_pivots"] = chol.negative_pivots;
   j["smallest_eigenvalues_over_mean_kn"] = eig;
+  j["modes_file"] = opt.modes > 0 ? nlohmann::json(opt.modes_file->string()) : nlohmann::json();
   j["H"] = h;
   j["H_over_Nf"] = double(h) / double(n_star * g);
   // Eq. (37) is [AR]'s count for backbones without cohesion or rolling resistance.

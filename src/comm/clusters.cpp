@@ -3,37 +3,13 @@
 #include <algorithm>
 #include <unordered_map>
 
+#include "granpack/analysis/disjoint_sets.h"
 #include "granpack/comm/gather.h"
 #include "granpack/core/error.h"
 
 namespace granpack {
 
 namespace {
-/// Union-find with path halving over the ids met so far.
-struct DisjointSets {
-  std::vector<std::size_t> parent;
-  std::unordered_map<std::int64_t, std::size_t> index;
-  std::size_t of(std::int64_t id) {
-    const auto [it, added] = index.try_emplace(id, parent.size());
-    if (added)
-      parent.push_back(it->second);
-    return it->second;
-  }
-  std::size_t find(std::size_t x) {
-    while (parent[x] != x)
-      x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  /// True when a and b were in different sets.
-  bool unite(std::int64_t id_a, std::int64_t id_b) {
-    std::size_t a = find(of(id_a)), b = find(of(id_b));
-    if (a == b)
-      return false;
-    parent[std::max(a, b)] = std::min(a, b);
-    return true;
-  }
-};
-
 /// Every rank's pairs on rank 0, two ids after another (empty elsewhere).
 std::vector<double> gather_pairs(const std::vector<std::pair<GlobalId, GlobalId>>& pairs,
                                  MPI_Comm comm) {

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 
+#include "granpack/analysis/local_order.h"
 #include "granpack/comm/backbone.h"
+#include "granpack/comm/cluster_ids.h"
 #include "granpack/comm/halo.h"
+#include "granpack/comm/qbar_exchange.h"
 #include "granpack/comm/reduce.h"
 #include "granpack/contact/contact_law_params.h"
 #include "granpack/contact/derived_constants.h"
@@ -52,6 +55,36 @@ template <int dim> void strong_flags(const RunContext<dim>& ctx, NetworkFields<d
   for (std::size_t k = 0; k < f.kind.size(); ++k)
     f.strong[k] = f.kind[k] == compressive && f.normal_force[k] > mean ? 1.0 : 0.0;
 }
+/// f.bond_order and f.crystalline of the owned grains (analysis/local_order.h): bonds within
+/// kOrderCutoff a among the owned grains and the ghosts of `halo` (a layer at least that wide).
+template <int dim>
+void order_flags(const RunContext<dim>& ctx, const ParticleStore<dim>& p, const Halo<dim>& halo,
+                 NetworkFields<dim>& f) {
+  const double d_c = kOrderCutoff * ctx.deck->sample.diameter;
+  auto bonds = grain_bonds(ctx.system.cell, p, d_c);
+  const std::size_t n = p.n_owned();
+  f.bond_order.assign(n, 0.0);
+  f.crystalline.assign(n, 0.0);
+  if constexpr (dim == 2) {
+    for (std::size_t i = 0; i < n; ++i) {
+      f.bond_order[i] = psi6_modulus(bonds[i].bonds);
+      f.crystalline[i] = f.bond_order[i] >= kCrystallinePsi6 ? 1.0 : 0.0;
+    }
+  } else {
+    // [AR]'s rule as `granpack analyze` applies it (its x_cr is the mean of this column).
+    std::vector<BondNeighborhood> hood(n);
+    std::vector<LocalBondOrder> q6(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      hood[i] = {bonds[i].id, std::move(bonds[i].bonds), std::move(bonds[i].neighbor_ids)};
+      q6[i] = local_q(hood[i], 6);
+      f.bond_order[i] = q6[i].Q;
+    }
+    const QBarTable table = exchange_qbar(p, q6, halo, *ctx.decomposition);
+    const int min_bonds = BondOrderParams{}.min_crystalline_bonds;
+    for (std::size_t i = 0; i < n; ++i)
+      f.crystalline[i] = int(crystalline_neighbors(hood[i], table).size()) >= min_bonds ? 1.0 : 0.0;
+  }
+}
 } // namespace
 
 template <int dim>
@@ -67,7 +100,9 @@ std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
     r_max = std::max(r_max, p.radius[i]);
   // A contact is at most 2 R_max + D0 long; twice that covers the grains' drift since the
   // last migration (less than the neighbour-list skin).
-  const double reach = 2 * (2 * global_max(ctx.world, r_max) + law.interaction_range());
+  // The bonds of the order parameters reach kOrderCutoff a.
+  const double reach = std::max(2 * (2 * global_max(ctx.world, r_max) + law.interaction_range()),
+                                kOrderCutoff * ctx.deck->sample.diameter);
   const Vec<dim> width = Vec<dim>::Constant(reach).cwiseQuotient(sys.cell.length);
   for (int a = 0; a < dim; ++a)
     if (d.narrowest(a) < width[a])
@@ -79,16 +114,24 @@ std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
     return std::nullopt;
   rattler_flags(ctx, p, halo, f);
   strong_flags(ctx, f);
+  f.cluster_id.clear();
+  for (double id : cluster_ids(p, halo, d, f.pairs))
+    f.cluster_id.push_back(std::int64_t(id));
+  order_flags(ctx, p, halo, f);
   halo.reverse_values(f.contacts, d);
   halo.reverse_values(f.carrying_contacts, d);
   halo.reverse_values(f.mean_stress, d);
   for (auto& c : f.net_force)
+    halo.reverse_values(c, d);
+  for (auto& c : f.stress)
     halo.reverse_values(c, d);
   const std::size_t n = p.n_owned();
   f.contacts.resize(n);
   f.carrying_contacts.resize(n);
   f.mean_stress.resize(n);
   for (auto& c : f.net_force)
+    c.resize(n);
+  for (auto& c : f.stress)
     c.resize(n);
   return f;
 }

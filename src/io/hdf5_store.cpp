@@ -738,7 +738,17 @@ template <int dim> void validate_for_write(const Configuration<dim>& c, const Fi
       if (v->size() != c.contacts.size())
         ctx.fail("a per-contact /network array has " + std::to_string(v->size()) + " rows for " +
                  std::to_string(c.contacts.size()) + " contacts");
-    for (const auto* v : {&f.contacts, &f.carrying_contacts, &f.mean_stress, &f.rattler})
+    std::vector<const std::vector<double>*> per_grain = {&f.contacts,    &f.carrying_contacts,
+                                                         &f.mean_stress, &f.rattler,
+                                                         &f.bond_order,  &f.crystalline};
+    if (f.cluster_id.size() != n)
+      ctx.fail("/network/cluster_id has " + std::to_string(f.cluster_id.size()) + " rows for " +
+               std::to_string(n) + " owned particles");
+    for (const auto& v : f.net_force)
+      per_grain.push_back(&v);
+    for (const auto& v : f.stress)
+      per_grain.push_back(&v);
+    for (const auto* v : per_grain)
       if (v->size() != n)
         ctx.fail("a per-grain /network array has " + std::to_string(v->size()) + " rows for " +
                  std::to_string(n) + " owned particles");
@@ -831,12 +841,23 @@ void write_network(const FileContext& ctx, hid_t file, hid_t dxpl, const Network
   rows("carrying_contacts", f.carrying_contacts, ps, 0, "1");
   rows("mean_stress", f.mean_stress, ps, 0, "Pa");
   rows("rattler", f.rattler, ps, 0, "1");
+  rows("cluster_id", f.cluster_id, ps, 0, "1");
+  rows("bond_order", f.bond_order, ps, 0, "1");
+  rows("crystalline", f.crystalline, ps, 0, "1");
   std::vector<double> net;
   net.reserve(static_cast<std::size_t>(ps.count) * dim);
   for (std::int64_t i = 0; i < ps.count; ++i)
     for (int a = 0; a < dim; ++a)
       net.push_back(f.net_force[a][static_cast<std::size_t>(i)]);
   rows("net_force", net, ps, dim, "N");
+  // [n, dim * dim], row-major sigma_ab: the sidecar shows it as a tensor (3D) or a
+  // 4-component matrix (2D: ParaView has no 2 x 2 tensor).
+  std::vector<double> stress;
+  stress.reserve(static_cast<std::size_t>(ps.count) * dim * dim);
+  for (std::int64_t i = 0; i < ps.count; ++i)
+    for (const auto& c : f.stress)
+      stress.push_back(c[static_cast<std::size_t>(i)]);
+  rows("stress", stress, ps, dim * dim, "Pa");
 }
 
 /// write_file's datasets and attributes, each phase agreed on by every rank.

@@ -85,7 +85,14 @@ std::string configuration_grid(const XdmfParticles& p) {
        << attribute("carrying_contacts", "Scalar", "Node", n, "Float", "/network/carrying_contacts")
        << attribute("net_force", "Vector", "Node", nd, "Float", "/network/net_force")
        << attribute("mean_stress", "Scalar", "Node", n, "Float", "/network/mean_stress")
-       << attribute("rattler", "Scalar", "Node", n, "Float", "/network/rattler");
+       // 3D: a Tensor of 9 (ParaView's tensor glyphs, eigenvalues); 2D: 4 components, read by
+       // ParaView as a plain 4-component array ("Tensor" insists on 9).
+       << attribute("stress", p.dimension == 2 ? "Matrix" : "Tensor", "Node",
+                    n + (p.dimension == 2 ? " 4" : " 9"), "Float", "/network/stress")
+       << attribute("rattler", "Scalar", "Node", n, "Float", "/network/rattler")
+       << attribute("cluster_id", "Scalar", "Node", n, "Int", "/network/cluster_id")
+       << attribute("bond_order", "Scalar", "Node", n, "Float", "/network/bond_order")
+       << attribute("crystalline", "Scalar", "Node", n, "Float", "/network/crystalline");
   os << ind << "    </Grid>\n";
   if (lines) {
     const std::string nc = std::to_string(p.n_network_contacts);
@@ -165,6 +172,39 @@ void write_trajectory_xdmf(const std::filesystem::path& xdmf_path, const std::st
 
 void write_particles_xdmf(const std::filesystem::path& xdmf_path, const XdmfParticles& p) {
   write_text_atomically(xdmf_path, particles_xdmf(p));
+}
+
+void write_modes_xdmf(const std::filesystem::path& xdmf_path, const std::string& h5_name,
+                      int dimension, std::int64_t n_grains, int modes, bool rotations) {
+  const std::string file = xml_escape(h5_name), n = std::to_string(n_grains);
+  const std::string nd = n + " " + std::to_string(dimension);
+  // The file holds numbers as f64 only (io/json_hdf5.h): ids too.
+  auto attribute = [&](const std::string& name, const char* kind, const std::string& dims,
+                       const std::string& dataset) {
+    return "      <Attribute Name=\"" + name + "\" AttributeType=\"" + kind +
+           "\" Center=\"Node\">\n        <DataItem Dimensions=\"" + dims +
+           "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" + file + ":" + dataset +
+           "</DataItem>\n      </Attribute>\n";
+  };
+  std::string grid = "    <Grid Name=\"grains\" GridType=\"Uniform\">\n"
+                     "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" +
+                     n + "\" NodesPerElement=\"1\"/>\n      <Geometry GeometryType=\"" +
+                     (dimension == 2 ? "XY" : "XYZ") + "\">\n        <DataItem Dimensions=\"" + nd +
+                     "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" + file +
+                     ":/grains/position</DataItem>\n      </Geometry>\n" +
+                     attribute("radius", "Scalar", n, "/grains/radius") +
+                     attribute("id", "Scalar", n, "/grains/id") +
+                     attribute("backbone", "Scalar", n, "/grains/backbone");
+  for (int k = 0; k < modes; ++k) {
+    const std::string at = "/modes/" + std::to_string(k) + "/", name = "mode_" + std::to_string(k);
+    grid += attribute(name, "Vector", nd, at + "displacement");
+    if (rotations)
+      grid += dimension == 2 ? attribute(name + "_rotation", "Scalar", n, at + "rotation")
+                             : attribute(name + "_rotation", "Vector", n + " 3", at + "rotation");
+  }
+  write_text_atomically(xdmf_path,
+                        xdmf_header("stiffness modes (" + std::to_string(modes) + ")", h5_name) +
+                            grid + "    </Grid>\n" + kXdmfFooter);
 }
 
 } // namespace granpack

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "granpack/comm/allgather.h"
+#include "granpack/comm/gather.h"
 
 namespace granpack {
 
@@ -226,6 +227,39 @@ std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int 
     x /= scale;
   if (seconds)
     *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+SoftModes softest_modes(Mat a, const DirectSolver& solver, const GrainNumbering& numbering,
+                        int grain_dofs, int count, double scale) {
+  MPI_Comm comm = MPI_COMM_NULL;
+  GRANPACK_PETSC(PetscObjectGetComm(reinterpret_cast<PetscObject>(a), &comm));
+  std::vector<OwnedVec> vectors;
+  SoftModes out;
+  out.eigenvalues = eigenpairs_near_zero(a, solver, count, &vectors);
+  for (double& x : out.eigenvalues)
+    x /= scale;
+  const std::size_t g = std::size_t(grain_dofs);
+  for (const auto& v : vectors) {
+    // This rank's rows are the grains numbering.first + i: each sent with its index.
+    const PetscScalar* x = nullptr;
+    GRANPACK_PETSC(VecGetArrayRead(v, &x));
+    std::vector<double> local;
+    local.reserve(std::size_t(numbering.local) * (g + 1));
+    for (std::int64_t i = 0; i < numbering.local; ++i) {
+      local.push_back(double(numbering.first + i));
+      local.insert(local.end(), x + i * grain_dofs, x + (i + 1) * grain_dofs);
+    }
+    GRANPACK_PETSC(VecRestoreArrayRead(v, &x));
+    const std::vector<double> all = gather_values(local, comm, 0);
+    std::vector<double> mode(all.empty() ? 0 : std::size_t(numbering.grains) * g, 0.0);
+    for (std::size_t k = 0; k + g < all.size(); k += g + 1)
+      std::copy(all.begin() + long(k + 1), all.begin() + long(k + 1 + g),
+                mode.begin() + long(std::size_t(all[k]) * g));
+    out.values.push_back(std::move(mode));
+  }
+  if (out.values.size() && out.values.front().empty())
+    out.values.clear(); // not rank 0
   return out;
 }
 

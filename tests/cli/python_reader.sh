@@ -125,6 +125,17 @@ if nw:
     np.add.at(share, p.i, w)
     np.add.at(share, p.j, w)
     check("per-grain mean stress", np.allclose(nw["mean_stress"], share / (3 * vg), rtol=1e-12, atol=1e-9 * P))
+    sg = nw["stress"].reshape(p.n, 3, 3)
+    half = 0.5 * np.einsum("ka,kb->kab", p.contact_force, p.branch)
+    mine = np.zeros((p.n, 3, 3))
+    np.add.at(mine, p.i, half)
+    np.add.at(mine, p.j, half)
+    check("per-grain stress tensor = (1/V_g) sum f (x) r_12 / 2 (recomputed)",
+          nw["stress"].shape == (p.n, 9) and np.allclose(sg, mine / vg[:, None, None], rtol=1e-12, atol=1e-9 * P))
+    check("tr(stress)/3 = mean_stress", np.allclose(np.trace(sg, axis1=1, axis2=2) / 3, nw["mean_stress"], rtol=0, atol=1e-9 * P))
+    total = np.einsum("g,gab->ab", vg, sg) / p.volume
+    check(f"sum of V_g stress_g / V = the cell's stress (max difference {np.abs(total - p.stress()).max():.3g} Pa)",
+          np.allclose(total, p.stress(), rtol=0, atol=1e-9 * P))
     rat = p.rattlers()
     check(f"rattler flags of the iterated rule ({int(nw['rattler'].sum())} of {p.n}) = the reader's rattlers()",
           np.array_equal(nw["rattler"] == 1, rat) and rat.sum() > 0)
@@ -140,6 +151,17 @@ if nw:
     check(f"strong flags: N > <N> over the compressive contacts ({int(nw['strong'].sum())} of {p.nc})",
           np.array_equal(nw["strong"] == 1, strong) and 0 < strong.sum() < p.nc)
     check("units of /network", p.units.get("network/point") == "m" and p.units.get("network/net_force") == "N")
+if nw:
+    cid = p.cluster_ids()
+    print(f"{len(np.unique(nw['cluster_id']))} clusters, the largest of {np.bincount(np.unique(cid, return_inverse=True)[1]).max()} grains")
+    check("cluster ids across ranks = the reader's cluster_ids() (smallest id of each cluster)",
+          nw["cluster_id"].dtype == np.int64 and np.array_equal(nw["cluster_id"], cid))
+    order = gio.read_analysis(f"{out}/analysis.json")["order"]["1.40"]
+    q6 = nw["bond_order"]
+    check(f"mean bond_order (Q6) over grains with bonds {q6[q6 > 0].mean():.12f} = analyze's Q6_local_mean "
+          f"{order['Q6_local_mean']:.12f}", abs(q6[q6 > 0].mean() - order["Q6_local_mean"]) < 1e-12)
+    check(f"crystalline fraction {nw['crystalline'].mean()} = analyze's {order['crystalline_fraction']}",
+          abs(nw["crystalline"].mean() - order["crystalline_fraction"]) < 1e-12)
 t = rep.stage_table()
 check("stage table: names, phi and pressure arrays", list(t["kind"]) == ["random", "compress"]
       and abs(t["phi"][-1] - p.phi) < 1e-9 and t["pressure"].shape == (2,) and rep.units["pressure"] == "Pa")

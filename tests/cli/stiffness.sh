@@ -29,6 +29,39 @@ assert j["virtual_work_residual"] < 1e-3, j["virtual_work_residual"]
 assert j["bulk_modulus"] > 0 and j["shear_modulus_diag"] > 0
 PY
 
+# --modes: the softest modes of the stiffened K(1) as fields (docs/stiffness.md). The pinned
+# grain's translations are exact eigenvectors of eigenvalue <k_n> (its rows and columns are
+# <k_n> 1): that mode must sit on the JSON's pinned_grain alone, which checks the way the
+# rows of both ranks are put back onto grain ids; the other modes are unit vectors in
+# (u, theta ell), orthogonal, with the eigenvalues the JSON reports.
+check_exit "stiffness --modes 4" 0 "$scratch/sm.txt" granpack_on 2 stiffness "$scratch/fcc/final.h5" \
+  --json "$scratch/sm.json" --modes 4 --modes-file "$scratch/modes.h5"
+check_python "modes file: eigenvalues, unit and orthogonal modes, the pinned grain's mode" \
+  "$scratch/pym.txt" "$scratch/sm.json" "$scratch/modes.h5" "$scratch/modes.xdmf" <<'PY'
+import json, os, sys
+import numpy as np
+sys.path.insert(0, os.environ["GRANPACK_SOURCE_DIR"] + "/jobs/tools")
+import granpack_io as gio
+j = json.load(open(sys.argv[1]))
+m = gio.read(sys.argv[2])  # by content: read_modes
+ev, ell, ids = m["eigenvalues"], m["rotation_length"], m["id"]
+assert len(ids) == 256 and m["backbone"].all() and m["displacement"].shape == (4, 256, 3)
+modes = list(zip(m["displacement"], m["rotation"]))
+assert j["modes_file"] == sys.argv[2], j["modes_file"]
+assert np.allclose(ev, j["smallest_eigenvalues_over_mean_kn"][:4], rtol=1e-9, atol=0), (ev, j["smallest_eigenvalues_over_mean_kn"])
+V = np.array([np.concatenate([u.ravel(), (r * ell).ravel()]) for u, r in modes])
+assert np.allclose(V @ V.T, np.eye(4), atol=1e-9), V @ V.T
+k = int(np.argmin(np.abs(ev - 1.0)))
+assert abs(ev[k] - 1.0) < 1e-9, ev
+a = np.linalg.norm(modes[k][0], axis=1)
+on = ids == j["pinned_grain"]
+assert abs(a[on][0] - 1) < 1e-9 and a[~on].max() < 1e-9 and np.abs(modes[k][1]).max() < 1e-9, (a[on], a[~on].max())
+assert ev[0] < ev[k] and np.linalg.norm(modes[0][0], axis=1).max() < 0.5  # the softest is spread
+x = open(sys.argv[3]).read()
+assert x.count('AttributeType="Vector"') == 8 and "modes.h5:/modes/3/displacement" in x, x
+PY
+check_exit "--modes without --modes-file" 2 "$scratch/bm.txt" "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --modes 2
+
 check_refused "missing file" 2 "does_not_exist.h5" "$scratch/m.txt" "$GRANPACK_EXE" stiffness "$scratch/does_not_exist.h5"
 check_exit "bad --null-pivot" 2 "$scratch/b.txt" "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --null-pivot 0
 

@@ -642,8 +642,13 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     f.carrying_contacts.push_back(0.5 * double(c.particles.id[i]));
     f.mean_stress.push_back(-double(c.particles.id[i]));
     f.rattler.push_back(double(c.particles.id[i] % 2));
+    f.cluster_id.push_back(c.particles.id[i] / 10);
+    f.bond_order.push_back(1e-3 * double(c.particles.id[i]));
+    f.crystalline.push_back(double(c.particles.id[i] % 3 == 0));
     for (int a = 0; a < dim; ++a)
       f.net_force[a].push_back(double(c.particles.id[i]) + a);
+    for (int k = 0; k < dim * dim; ++k)
+      f.stress[std::size_t(k)].push_back(100.0 * double(c.particles.id[i]) + k);
   }
   c.network = f;
   write_configuration(MPI_COMM_WORLD, path, c);
@@ -654,6 +659,12 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     const auto [gdims, net] = read_whole(path, "/network/net_force");
     const auto [cdims, count] = read_whole(path, "/network/contacts");
     const auto [rdims, rattler] = read_whole(path, "/network/rattler");
+    const auto [sdims, stress] = read_whole(path, "/network/stress");
+    const auto [kdims, cluster] = read_whole(path, "/network/cluster_id");
+    const auto [odims, order] = read_whole(path, "/network/bond_order");
+    ASSERT_EQ(kdims, (std::vector<hsize_t>{123}));
+    ASSERT_EQ(odims, (std::vector<hsize_t>{123}));
+    ASSERT_EQ(sdims, (std::vector<hsize_t>{123, dim * dim}));
     ASSERT_EQ(rdims, (std::vector<hsize_t>{123}));
     ASSERT_EQ(ldims, (std::vector<hsize_t>{45, 2}));
     ASSERT_EQ(pdims, (std::vector<hsize_t>{90, dim}));
@@ -669,7 +680,11 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     for (std::size_t i = 0; i < 123; ++i) {
       EXPECT_EQ(count[i], ids[i]); // per-grain rows follow /particles
       EXPECT_EQ(rattler[i], double(std::int64_t(ids[i]) % 2));
+      EXPECT_EQ(cluster[i], double(std::int64_t(ids[i]) / 10));
+      EXPECT_EQ(order[i], 1e-3 * ids[i]);
       EXPECT_EQ(net[i * dim + 1], ids[i] + 1);
+      for (std::size_t k = 0; k < dim * dim; ++k) // row-major sigma_ab, rows as /particles
+        EXPECT_EQ(stress[i * dim * dim + k], 100.0 * ids[i] + double(k));
     }
     const std::string x = file_bytes(xdmf_path_for(path));
     EXPECT_NE(x.find("TopologyType=\"Polyline\" NumberOfElements=\"45\""), std::string::npos) << x;
@@ -677,6 +692,18 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     EXPECT_NE(x.find(">net.h5:/network/net_force<"), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/rattler<"), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/strong<"), std::string::npos) << x;
+    EXPECT_NE(x.find("Name=\"cluster_id\" AttributeType=\"Scalar\""), std::string::npos) << x;
+    EXPECT_NE(x.find(">net.h5:/network/crystalline<"), std::string::npos) << x;
+    // ParaView's tensor is 9 components; 2D's 2 x 2 goes as a 4-component matrix.
+    EXPECT_NE(x.find(dim == 3 ? "Name=\"stress\" AttributeType=\"Tensor\""
+                              : "Name=\"stress\" AttributeType=\"Matrix\""),
+              std::string::npos)
+        << x;
+    EXPECT_NE(
+        x.find("Dimensions=\"123 " + std::to_string(dim * dim) +
+               "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">net.h5:/network/stress<"),
+        std::string::npos)
+        << x;
     const auto [mdims, mob] = read_whole(path, "/network/mobilisation");
     ASSERT_EQ(mdims, (std::vector<hsize_t>{45}));
     EXPECT_NE(x.find("Name=\"contacts\" AttributeType=\"Scalar\" Center=\"Node\""),

@@ -51,12 +51,31 @@ template <int dim> struct NetworkFields {
   /// (1/(dim V_g)) sum over its contacts of f.r_12 / 2 (V_g = pi R^2 per unit thickness in 2D,
   /// 4 pi R^3 / 3 in 3D); sum_g V_g mean_stress_g / V is the static pressure.
   std::vector<double> mean_stress;
+  /// The grain's static stress tensor (Pa), sigma_ab = (1/V_g) sum over its contacts of
+  /// f_a r_12,b / 2 (f the force on `second`, r_12 the branch vector), component a * dim + b:
+  /// each contact's share of the cell's virial f (x) r_12 split evenly between its two grains,
+  /// as mean_stress splits its trace, so tr(sigma)/dim = mean_stress and
+  /// sum_g V_g sigma_g = V sigma (the static stress of the cell, granpack_io.py stress()).
+  /// Compressive positive. Not symmetric in general (tangential forces, unequal radii).
+  std::array<std::vector<double>, dim * dim> stress;
   /// Per contact placed (distant pairs too): the local rows of its grains and N^e, what the
   /// backbone of [AR]'s rattler rule is found from (comm/backbone.h).
   std::vector<CarryingContact> pairs;
   /// Per owned grain: 1 for a rattler of the iterated rule, else 0. Not filled by
   /// contact_network (the rule runs across ranks: engine/network_fields.h).
   std::vector<double> rattler;
+  /// Per owned grain: its cluster, the smallest id among the grains joined to it by the stored
+  /// contacts (distant cohesive pairs included, as the aggregation of [GRC] counts clusters:
+  /// comm/clusters.h); a grain without contacts is its own cluster. Not filled by
+  /// contact_network (clusters span ranks: engine/network_fields.h, comm/cluster_ids.h).
+  std::vector<std::int64_t> cluster_id;
+  /// Per owned grain: local bond-orientational order within kOrderCutoff a
+  /// (analysis/local_order.h), Q6 in 3D, |psi6| in 2D; 0 without bonds. Not filled by
+  /// contact_network.
+  std::vector<double> bond_order;
+  /// Per owned grain: 1 for a crystalline grain (3D: [AR] eq. 34, at least 7 crystalline bonds;
+  /// 2D: |psi6| >= kCrystallinePsi6), else 0. Not filled by contact_network.
+  std::vector<double> crystalline;
   std::int64_t missing = 0; ///< contacts whose grains are not both local (nothing computed)
 };
 

@@ -21,6 +21,10 @@ struct StiffnessOptions {
   double null_pivot_threshold = 1e-12;
   /// Smallest eigenvalues of the stiffened grain block to report (SLEPc).
   int eigenvalues = 6;
+  /// With modes > 0: the `modes` softest modes of the stiffened K(1) as per-grain fields in
+  /// this HDF5 file and its XDMF sidecar (app/stiffness_modes.h).
+  int modes = 0;
+  std::optional<std::filesystem::path> modes_file;
 };
 
 /// Returns the JSON text of the results (on every rank); rank 0 prints the table.

@@ -47,4 +47,12 @@ void write_trajectory_xdmf(const std::filesystem::path& xdmf_path, const std::st
 /// (temp + rename, see atomic_file.h). Throws Error naming the file.
 void write_particles_xdmf(const std::filesystem::path& xdmf_path, const XdmfParticles& p);
 
+/// Not collective (call on one rank). Writes the sidecar of a `granpack stiffness --modes`
+/// file (docs/stiffness.md): one grid "grains" (geometry /grains/position; radius, id,
+/// backbone) with, per mode k < `modes`, the node attributes mode_k (vector
+/// /modes/k/displacement) and, with `rotations`, mode_k_rotation (/modes/k/rotation: a vector
+/// in 3D, a scalar in 2D), for ParaView's Warp By Vector.
+void write_modes_xdmf(const std::filesystem::path& xdmf_path, const std::string& h5_name,
+                      int dimension, std::int64_t n_grains, int modes, bool rotations);
+
 } // namespace granpack

@@ -13,6 +13,7 @@
 // MPI-free. Errors (a non-finite position) throw granpack::Error on the rank that sees them; a
 // caller in a collective phase wraps the build (comm/collective_error.h).
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -110,5 +111,29 @@ private:
 
 extern template class CellGrid<2>;
 extern template class CellGrid<3>;
+
+/// Calls f(i, j, r_ij, |r_ij|) for every owned particle i of `p` and every local particle j
+/// (owned or ghost, not an image of i itself) with |r_ij| < cutoff, r_ij the real vector from
+/// i to j. The grid is built over `p` with cells of side >= cutoff. Ghosts stand for the
+/// periodic images: the grid itself does not wrap.
+template <int dim, class F>
+void for_each_owned_neighbor(const CellGrid<dim>& grid, const ParticleStore<dim>& p,
+                             const Cell<dim>& cell, double cutoff, F&& f) {
+  const double c2 = cutoff * cutoff;
+  for (std::size_t i = 0; i < p.n_owned(); ++i) {
+    const Vec<dim> ri = cell.to_real(p.position[i]);
+    grid.for_each_neighbor_cell(grid.cell_of_particle(i), [&](std::size_t c) {
+      for (std::size_t k = grid.cell_start(c); k < grid.cell_start(c + 1); ++k) {
+        const std::size_t j = grid.order()[k];
+        if (p.id[j] == p.id[i])
+          continue;
+        const Vec<dim> r = grid.sorted_position(k) - ri;
+        const double d2 = r.squaredNorm();
+        if (d2 < c2)
+          f(i, j, r, std::sqrt(d2));
+      }
+    });
+  }
+}
 
 } // namespace granpack

@@ -48,6 +48,17 @@ template <int dim> KnownMechanisms remove_known_mechanisms(StiffnessSystem<dim>&
 std::vector<double> smallest_eigenvalues(Mat a, const DirectSolver& solver, int count, double scale,
                                          double* seconds);
 
+/// The `count` softest modes of the factorised symmetric grain block `a` (the eigenpairs
+/// nearest 0 of smallest_eigenvalues()), for `granpack stiffness --modes`: eigenvalues / scale
+/// on every rank; on rank 0 each mode's entries per backbone grain (grain_dofs each, in the
+/// order of numbering.ids), unit norm; empty elsewhere. Collective.
+struct SoftModes {
+  std::vector<double> eigenvalues;
+  std::vector<std::vector<double>> values;
+};
+SoftModes softest_modes(Mat a, const DirectSolver& solver, const GrainNumbering& numbering,
+                        int grain_dofs, int count, double scale);
+
 /// Unexpected mechanisms, counted and named: the eigenvectors of the (singular) stiffened
 /// K(1)_uu with eigenvalue below `tolerance` <k_n>, from SLEPc on the inverse of
 /// K(1)_uu + shift <k_n> 1 (a second, regularised factorisation), asking for `count`, then
