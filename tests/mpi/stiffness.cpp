@@ -228,10 +228,10 @@ Dense dense_reference(const std::filesystem::path& file, const nlohmann::json& j
             const granpack::Vec<3> n = ends[c].first == ga
                                            ? cs[c].geometry.normal
                                            : granpack::Vec<3>(-cs[c].geometry.normal);
-            Eigen::VectorXd p = Eigen::VectorXd::Zero(m.rows());
-            p.segment<3>(ga * g + 3) = n;
-            p.segment<3>(gb * g + 3) = -n;
-            m += kbar * p * p.transpose();
+            Eigen::VectorXd hinge = Eigen::VectorXd::Zero(m.rows());
+            hinge.segment<3>(ga * g + 3) = n;
+            hinge.segment<3>(gb * g + 3) = -n;
+            m += kbar * hinge * hinge.transpose();
           }
         EXPECT_EQ(found, 1);
       }
