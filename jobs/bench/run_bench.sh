@@ -11,7 +11,10 @@
 # Environment: STEPS (default 1000), SIZES (default "1x1x1 2x2x2"), BENCH_OUT (default
 # /tmp/granpack-bench), RANKS (default "1 2"), REPEAT (default 2: each pair of runs is
 # repeated and the best rate of each code is kept, which filters the worst of the noise of a
-# shared machine).
+# shared machine), E2E (default empty: decks under jobs/decks/ run end to end on 2 ranks after
+# the ratios, e.g. E2E="A experiments/A_dt0.05 B"; each prints its wall time and the state's
+# Phi and z*: issue 32's time-to-state targets), ED (default 1: the event-driven melt's
+# collisions per second, jobs/bench/ed_bench.cpp, if the build has granpack_ed_bench).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -66,3 +69,24 @@ for size in $sizes; do
   done
 done
 $py "$here/summarize.py" "$out" $sizes
+if [ "${ED:-1}" = 1 ] && [ -x "$build/granpack_ed_bench" ]; then
+  echo "[bench] event-driven melt (n = 4000, Phi = 0.45, 100 collisions per grain, best of 3)"
+  "$build/granpack_ed_bench" 100 3 | tee "$out/ed_bench.txt"
+fi
+for deck in ${E2E:-}; do
+  d=$out/e2e/${deck//\//_}
+  rm -rf "$d"
+  t0=$(date +%s.%N)
+  mpirun -np 2 "$exe" run "$root/jobs/decks/$deck.toml" -o "$d" -q >"$d.log" 2>&1 \
+    || { echo "[bench] $deck failed (log $d.log)" >&2; continue; }
+  t1=$(date +%s.%N)
+  $py - "$deck" "$t0" "$t1" "$d" <<'PY'
+import glob, json, os, sys
+deck, t0, t1, d = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), sys.argv[4]
+r = json.load(open(os.path.join(d, "report.json")))
+last = [s for s in r["stages"] if s.get("steps", 0) > 0][-1]
+print(f"[bench] end to end {deck}: {(t1 - t0) / 60:.2f} min on 2 ranks, "
+      f"{sum(s.get('steps', 0) for s in r['stages'])} steps, phi {last.get('phi', float('nan')):.5f}, "
+      f"z* {last.get('z_star', float('nan'))}")
+PY
+done
