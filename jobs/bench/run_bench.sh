@@ -75,7 +75,7 @@ if [ "${ED:-1}" = 1 ] && [ -x "$build/granpack_ed_bench" ]; then
 fi
 for deck in ${E2E:-}; do
   d=$out/e2e/${deck//\//_}
-  rm -rf "$d"
+  rm -rf "$d" && mkdir -p "$out/e2e"
   t0=$(date +%s.%N)
   mpirun -np 2 "$exe" run "$root/jobs/decks/$deck.toml" -o "$d" -q >"$d.log" 2>&1 \
     || { echo "[bench] $deck failed (log $d.log)" >&2; continue; }
