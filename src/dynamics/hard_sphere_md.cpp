@@ -12,6 +12,18 @@ namespace granpack {
 
 namespace {
 
+/// Doubles the row capacity of a table of fixed-capacity rows (row r: rows[r * cap + m],
+/// m < count[r]; the cells' members and the neighbour lists), keeping each row's entries.
+void double_row_capacity(std::vector<std::int32_t>& rows, int& cap,
+                         const std::vector<std::int32_t>& count) {
+  const int wider = 2 * cap;
+  std::vector<std::int32_t> mem(count.size() * static_cast<std::size_t>(wider), -1);
+  for (std::size_t r = 0; r < count.size(); ++r)
+    std::copy_n(&rows[r * cap], count[r], &mem[r * wider]);
+  rows.swap(mem);
+  cap = wider;
+}
+
 /// Cells are at least (1 + margin) times the diameter they were built for, so a grain that
 /// sits a rounding error outside its nominal cell is still found by its neighbours.
 constexpr double kCellMargin = 1e-9;
@@ -309,12 +321,7 @@ template <int dim> void HardSphereMD<dim>::cell_remove(int i) {
 
 /// Doubles the capacity of every cell (rare: only when a cell overflows).
 template <int dim> void HardSphereMD<dim>::grow_cell_capacity() {
-  const int cap = 2 * cap_;
-  std::vector<std::int32_t> mem(count_in_.size() * static_cast<std::size_t>(cap), -1);
-  for (std::size_t c = 0; c < count_in_.size(); ++c)
-    std::copy_n(&members_[c * cap_], count_in_[c], &mem[c * cap]);
-  members_.swap(mem);
-  cap_ = cap;
+  double_row_capacity(members_, cap_, count_in_);
 }
 
 /// Calls f(cell) for the cells of the 3^dim block around slab coordinates c (one cell along
@@ -689,14 +696,8 @@ template <int dim> void HardSphereMD<dim>::nl_link(int i, int above) {
 }
 
 template <int dim> void HardSphereMD<dim>::nl_add(int i, int k) {
-  if (nb_count_[i] == nb_cap_ || nb_count_[k] == nb_cap_) {
-    const int cap = 2 * nb_cap_;
-    std::vector<std::int32_t> nb(st_.size() * static_cast<std::size_t>(cap), -1);
-    for (std::size_t g = 0; g < st_.size(); ++g)
-      std::copy_n(&nb_[g * nb_cap_], nb_count_[g], &nb[g * cap]);
-    nb_.swap(nb);
-    nb_cap_ = cap;
-  }
+  if (nb_count_[i] == nb_cap_ || nb_count_[k] == nb_cap_)
+    double_row_capacity(nb_, nb_cap_, nb_count_);
   nb_[static_cast<std::size_t>(i) * nb_cap_ + nb_count_[i]++] = k;
   nb_[static_cast<std::size_t>(k) * nb_cap_ + nb_count_[k]++] = i;
 }
