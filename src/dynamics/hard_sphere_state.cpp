@@ -112,10 +112,15 @@ template <int dim> std::vector<std::uint8_t> HardSphereMD<dim>::save_state() con
   w.pod(d_lim_);
   w.pod(static_cast<std::int32_t>(cap_));
   w.vec(count_in_);
-  // Only the occupied member slots: their order within a cell matters, the rest is unused.
-  for (std::size_t c = 0; c < count_in_.size(); ++c)
-    for (int m = 0; m < count_in_[c]; ++m)
-      w.pod(members_[c * cap_ + m]);
+  // Of a table of fixed-capacity rows only the occupied entries: their order within a row
+  // matters, the rest is unused (the cells' members, the neighbour lists).
+  auto occupied_rows = [&w](const std::vector<std::int32_t>& rows, int cap,
+                            const std::vector<std::int32_t>& count) {
+    for (std::size_t r = 0; r < count.size(); ++r)
+      for (int m = 0; m < count[r]; ++m)
+        w.pod(rows[r * cap + m]);
+  };
+  occupied_rows(members_, cap_, count_in_);
   w.vec(cell_of_);
   w.vec(slot_in_cell_);
   w.vec(cc_);
@@ -138,10 +143,7 @@ template <int dim> std::vector<std::uint8_t> HardSphereMD<dim>::save_state() con
       w.vec(c);
     w.pod(static_cast<std::int32_t>(nb_cap_));
     w.vec(nb_count_);
-    // Only the occupied entries: their order within a list matters, the rest is unused.
-    for (std::size_t i = 0; i < nb_count_.size(); ++i)
-      for (int m = 0; m < nb_count_[i]; ++m)
-        w.pod(nb_[i * nb_cap_ + m]);
+    occupied_rows(nb_, nb_cap_, nb_count_);
   }
   return std::move(w.out);
 }
