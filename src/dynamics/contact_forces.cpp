@@ -180,9 +180,14 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const Ve
     n = 0;
   };
 
-  // Gathers the touching pairs. Every listed pair is written to lane n and n advances only if
-  // it touches: no branch to mispredict on the (random) contact/no-contact outcome (the two
-  // branches left, a contact that opens or one that forms, are rare and well predicted).
+  // Gathers the touching pairs, row by row in two passes. The first tests the distance of
+  // every listed pair of grain i and keeps the touching ones' positions in the row (each is
+  // written and the count advances by `touching`: no branch to mispredict on the random
+  // contact/no-contact outcome). The second fills one lane per touching pair. A listed pair
+  // that does not touch, most of them in a loose packing (a compression's gas, an aggregating
+  // [GRC] gas), then costs its distance test and one store instead of a lane's 21 stores and
+  // the loads of its velocities and history. Same lanes in the same order as a single pass,
+  // hence the same bits.
   const auto& off = list.offsets();
   const std::uint32_t* nb = list.neighbor_array().data();
   // Raw pointers (contiguous x, y, z per grain): the compiler then knows they do not move.
@@ -191,46 +196,59 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const Ve
   const double* spin = p.angular_velocity.data()->data();
   const double* radius = p.radius.data();
   const double* mass = p.mass.data();
+  std::ptrdiff_t* slots = slot_.data();
   const double Lx = L[0], Ly = L[1], Lz = L[2], Ldx = Ldot[0], Ldy = Ldot[1], Ldz = Ldot[2];
   const ContactState<3>* states = sys.contacts.size() > 0 ? &sys.contacts.state(0) : &kNoContact;
   for (std::size_t i = 0; i < list.n_owned(); ++i) {
+    const std::size_t k0 = off[i], k1 = off[i + 1];
+    if (row_hits_.size() < k1 - k0)
+      row_hits_.resize(k1 - k0);
+    std::uint32_t* hits = row_hits_.data();
     const double six = pos[3 * i], siy = pos[3 * i + 1], siz = pos[3 * i + 2];
-    const double vix = vel[3 * i], viy = vel[3 * i + 1], viz = vel[3 * i + 2];
-    const double wix = spin[3 * i], wiy = spin[3 * i + 1], wiz = spin[3 * i + 2];
-    const double ri = radius[i], mi = mass[i];
-    for (std::size_t k = off[i]; k < off[i + 1]; ++k) {
+    const double ri = radius[i];
+    std::size_t m = 0;
+    for (std::size_t k = k0; k < k1; ++k) {
       const std::size_t j = nb[k];
-      const double dsx = pos[3 * j] - six, dsy = pos[3 * j + 1] - siy, dsz = pos[3 * j + 2] - siz;
-      const double rx = Lx * dsx, ry = Ly * dsy, rz = Lz * dsz;
-      const double rj = radius[j];
-      const double reach = ri + rj;
+      const double rx = Lx * (pos[3 * j] - six), ry = Ly * (pos[3 * j + 1] - siy),
+                   rz = Lz * (pos[3 * j + 2] - siz);
+      const double reach = ri + radius[j];
       const bool touching = rx * rx + ry * ry + rz * rz < reach * reach;
-      std::ptrdiff_t slot = slot_[k];
-      // One branch, taken only when a contact opens or forms (rare, well predicted): a test
-      // of `touching` alone would be mispredicted on a good part of the pairs.
+      const std::ptrdiff_t slot = slots[k];
+      // One branch, taken only when a contact opens or forms (rare, well predicted).
       if (__builtin_expect(touching != (slot >= 0), 0)) {
         if (!touching) {
           // Out of reach: a contact that was there has ended; its history is forgotten.
           sys.contacts.state(static_cast<std::size_t>(slot)) = ContactState<3>{};
-          slot_[k] = slot = -1; // (the entry is erased at the next compaction)
+          slots[k] = -1; // (the entry is erased at the next compaction)
         } else {
-          slot = static_cast<std::ptrdiff_t>(
+          slots[k] = static_cast<std::ptrdiff_t>(
               sys.contacts.insert(ContactKey{p.id[i], p.id[j]}, ContactState<3>{}));
-          slot_[k] = slot;
           states = &sys.contacts.state(0); // the store may have grown
         }
       }
-      // A pair out of contact reads some valid history (its lane is discarded): index
-      // max(slot, 0) of the store, or kNoContact while the store is empty; no branch.
-      const ContactState<3>& st = states[std::max<std::ptrdiff_t>(slot, 0)];
+      hits[m] = static_cast<std::uint32_t>(k - k0);
+      m += touching ? 1 : 0;
+    }
+    if (m == 0)
+      continue;
+    const double vix = vel[3 * i], viy = vel[3 * i + 1], viz = vel[3 * i + 2];
+    const double wix = spin[3 * i], wiy = spin[3 * i + 1], wiz = spin[3 * i + 2];
+    const double mi = mass[i];
+    for (std::size_t t = 0; t < m; ++t) {
+      const std::size_t k = k0 + hits[t];
+      const std::size_t j = nb[k];
+      // The same arithmetic as the first pass: the same r_ij.
+      const double dsx = pos[3 * j] - six, dsy = pos[3 * j + 1] - siy, dsz = pos[3 * j + 2] - siz;
+      const std::size_t slot = static_cast<std::size_t>(slots[k]);
+      const ContactState<3>& st = states[slot];
       // The histories lie in list order (bind()): fetch a few contacts ahead, which the
       // hardware prefetcher, busy with the batch's streams, does not always do.
       __builtin_prefetch(&st + 8);
-      b.rx[n] = rx;
-      b.ry[n] = ry;
-      b.rz[n] = rz;
+      b.rx[n] = Lx * dsx;
+      b.ry[n] = Ly * dsy;
+      b.rz[n] = Lz * dsz;
       b.rad_i[n] = ri;
-      b.rad_j[n] = rj;
+      b.rad_j[n] = radius[j];
       b.mass_i[n] = mi;
       b.mass_j[n] = mass[j];
       // Relative velocity, with the affine part of the cell deformation Ldot (s_j - s_i).
@@ -249,9 +267,8 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const Ve
       b.n_old[n] = st.normal_force;
       lane_i[n] = static_cast<std::uint32_t>(i);
       lane_j[n] = static_cast<std::uint32_t>(j);
-      lane_slot[n] = static_cast<std::size_t>(slot);
-      n += touching ? 1 : 0;
-      if (n == cap)
+      lane_slot[n] = slot;
+      if (++n == cap)
         flush();
     }
   }

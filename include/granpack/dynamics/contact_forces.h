@@ -62,6 +62,7 @@ private:
 
   std::vector<std::ptrdiff_t> slot_;         ///< per listed pair: index in the ContactStore or -1
   std::unique_ptr<HertzMindlinBatch> batch_; ///< scratch of compute_batched (~40 kB)
+  std::vector<std::uint32_t> row_hits_; ///< scratch of compute_batched: one row's touching pairs
 };
 
 template <int dim>
