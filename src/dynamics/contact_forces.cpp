@@ -48,8 +48,6 @@ namespace {
 // compute_batched reads the particle arrays as x, y, z triples.
 static_assert(sizeof(Vec<3>) == 3 * sizeof(double) && sizeof(RotVec<3>) == 3 * sizeof(double));
 
-const ContactState<3> kNoContact{}; ///< read by a pair out of contact while no history exists
-
 /// Evaluates listed pair (i, j) with the scalar contact law and adds its forces, torques and
 /// virial; `slot` is its contact in the store (inserted by the caller).
 template <int dim>
@@ -198,7 +196,8 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const Ve
   const double* mass = p.mass.data();
   std::ptrdiff_t* slots = slot_.data();
   const double Lx = L[0], Ly = L[1], Lz = L[2], Ldx = Ldot[0], Ldy = Ldot[1], Ldz = Ldot[2];
-  const ContactState<3>* states = sys.contacts.size() > 0 ? &sys.contacts.state(0) : &kNoContact;
+  // Read only for touching pairs, which have a history by then (inserted in the first pass).
+  const ContactState<3>* states = sys.contacts.size() > 0 ? &sys.contacts.state(0) : nullptr;
   for (std::size_t i = 0; i < list.n_owned(); ++i) {
     const std::size_t k0 = off[i], k1 = off[i + 1];
     if (row_hits_.size() < k1 - k0)
