@@ -36,14 +36,14 @@ for level in $levels; do
     *) echo "unknown level $level (allowed: 1kPa 10kPa)" >&2; exit 2 ;;
   esac
   for mode in $modes; do
-    case $mode in frozen) frozen=true ;; free) frozen=false ;;
+    case $mode in frozen) frozen=true stop=rearrangement ;; free) frozen=false stop=collapse ;;
       *) echo "unknown mode $mode (allowed: frozen free)" >&2; exit 2 ;;
     esac
     for pick in $picks; do
       name=${level}_${mode}_pick${pick}_ratio${ratio}
       [ -f "$out/$name/report.json" ] && continue
       sed -e "s|@FILE@|$file|" -e "s|@PRESSURE@|$pressure|" -e "s|@PICK@|$pick|" \
-        -e "s|@FROZEN@|$frozen|" -e "s|@RATIO@|$ratio|" -e "s|@TURNS@|$turns|" \
+        -e "s|@FROZEN@|$frozen|" -e "s|@RATIO@|$ratio|" -e "s|@TURNS@|$turns|" -e "s|@STOP@|$stop|" \
         jobs/decks/appendix_e/launch.toml.in > "$out/decks/$name.toml"
       nice -n 10 mpirun -np "$ranks" "$exe" run "$out/decks/$name.toml" -o "$out/$name" -q
     done

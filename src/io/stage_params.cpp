@@ -378,6 +378,8 @@ DivalentLaunchStage DivalentLaunchStage::parse(StageTable& t) {
                          "fraction of the launch contacts opened that means a collapse");
   d.energy_factor = t.reader.number_or("energy_factor", d.energy_factor, Range::positive(),
                                        "kinetic energy / launch energy that means a rearrangement");
+  d.stop_on = t.reader.choice_or("stop_on", d.stop_on, {"collapse", "rearrangement", "never"},
+                                 "what ends the run before its turns");
   d.trajectory = t.reader.string_or("trajectory", d.trajectory,
                                     "trajectory CSV, relative to the output directory");
   return d;

@@ -7,7 +7,10 @@
 // kinetic energies, the launch contacts still closed) go to a CSV file; the verdict follows
 // docs/stiffness.md: collapsed when more than collapse_fraction of the launch contacts have
 // opened, else rearranged when the kinetic energy exceeded energy_factor x the launch energy,
-// else arrested when the grain's energy fell below 1 % of it, else rolling.
+// else arrested when the grain's energy fell below 1 % of it, else rolling. The run ends after
+// its turns, or at the first collapse (stop_on = "collapse") or rearrangement ("rearrangement").
+// A collapse under stop_on = "rearrangement" is then not awaited: with a frozen network the
+// energy can only come from the work of the stress on a failing network.
 // The stage is not resumable mid-run (no checkpoint frame): a restart repeats it.
 #include <algorithm>
 #include <cmath>
@@ -202,7 +205,9 @@ StageReport launch(RunContext<3>& ctx, const DivalentLaunchStage& p) {
     double d = raw - last_raw;
     d -= 2 * std::numbers::pi * std::nearbyint(d / (2 * std::numbers::pi));
     angle += d, last_raw = raw;
-    const double ek = engine.observables().kinetic_energy;
+    // Before the first step the engine's energy is the packing's at rest, without the launch.
+    const double ek =
+        ctx.system.step == first_step ? grain_energy(q) : engine.observables().kinetic_energy;
     max_energy = std::max(max_energy, ek);
     min_closed = std::min(min_closed, q.launch_contacts_closed);
     max_new = std::max(max_new, q.new_contacts);
@@ -221,7 +226,12 @@ StageReport launch(RunContext<3>& ctx, const DivalentLaunchStage& p) {
   };
   record();
   const std::int64_t log_every = ctx.deck->output.log_every;
-  for (std::int64_t k = 1; k <= steps && !collapsed; ++k) {
+  const auto stop = [&] {
+    if (p.stop_on == "never")
+      return false;
+    return collapsed || (p.stop_on == "rearrangement" && max_energy > p.energy_factor * e_launch);
+  };
+  for (std::int64_t k = 1; k <= steps && !stop(); ++k) {
     engine.step();
     if (k % p.record_every == 0 || k == steps)
       record();

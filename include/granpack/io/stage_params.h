@@ -182,6 +182,9 @@ struct DivalentLaunchStage {
   double collapse_fraction = 0.5;
   /// Rearrangement: the kinetic energy exceeds this multiple of the launch energy.
   double energy_factor = 10;
+  /// When the run stops before its turns: "collapse" (default), "rearrangement" (the first of
+  /// a rearrangement or a collapse: the network is failing) or "never".
+  std::string stop_on = "collapse";
   std::string trajectory = "divalent_trajectory.csv"; ///< relative to the output directory
   CompressStage control; ///< prescribed stress, fixed axes, cell mass (compress's keys)
   friend bool operator==(const DivalentLaunchStage&, const DivalentLaunchStage&) = default;
