@@ -35,11 +35,18 @@ def load(out, ratio):
     return tests
 
 
-def outcome(v):
-    for k in ("collapsed", "rearranged", "arrested"):
-        if v[k]:
-            return k
-    return "rolling"
+def outcome(t):
+    """The stage's verdict (docs/stiffness.md), recomputed from the values and the last row, so
+    that runs of binaries whose 'arrested' looked at the grain's energy only are judged alike."""
+    v, last = t["values"], t["rows"][-1]
+    if v["collapsed"]:
+        return "collapsed"
+    if v["rearranged"]:
+        return "rearranged"
+    rolling_on = (float(last["grain_kinetic_over_launch"]) >= 1e-2
+                  and float(last["grain_contacts"]) == 2
+                  and float(last["N_ij_over_F"]) > 0 and float(last["N_ik_over_F"]) > 0)
+    return "rolling" if rolling_on else "arrested"
 
 
 def main():
@@ -57,7 +64,7 @@ def main():
               f"{v['contact_force_over_a2P']:.2f} | {v['D_over_a']:.3f} | {v['turns_done']:.2f} | "
               f"{v['max_kinetic_over_launch']:.3g} | {int(v['min_launch_contacts_closed'])} / "
               f"{int(v['launch_contacts'])} | {int(v['max_new_contacts'])} | {v['phi_change']:.2g} | "
-              f"{outcome(v)} |")
+              f"{outcome(t)} |")
     print()
     print("| P | network | tests | collapsed | rearranged | arrested | rolling | [AR] |")
     print("|---|---|---|---|---|---|---|---|")
@@ -66,7 +73,7 @@ def main():
             g = [t for t in tests if t["level"] == level and t["mode"] == mode]
             if not g:
                 continue
-            c = {k: sum(outcome(t["values"]) == k for t in g)
+            c = {k: sum(outcome(t) == k for t in g)
                  for k in ("collapsed", "rearranged", "arrested", "rolling")}
             print(f"| {level} | {mode} | {len(g)} | {c['collapsed']} | {c['rearranged']} | "
                   f"{c['arrested']} | {c['rolling']} | {AR[(level, mode)]} |")
@@ -83,9 +90,10 @@ def main():
         for t in [t for t in tests if t["level"] == level]:
             x = [float(r["x_over_D"]) for r in t["rows"]]
             y = [float(r["y_over_D"]) for r in t["rows"]]
-            tt = [float(r["t"]) for r in t["rows"]]
-            ek = [float(r["kinetic_over_launch"]) for r in t["rows"]]
-            o = outcome(t["values"])
+            # From the first step on (files of the first binary hold 0 at t = 0).
+            tt = [float(r["t"]) for r in t["rows"][1:]]
+            ek = [float(r["kinetic_over_launch"]) for r in t["rows"][1:]]
+            o = outcome(t)
             if t["mode"] == "frozen":
                 color = "black" if o in ("collapsed", "rearranged") else "red"
                 ax.plot(x, y, "-", color=color, lw=1)
@@ -101,6 +109,7 @@ def main():
         ax.set_ylabel("y / D  (along t)")
         ax.set_title(f"D, P = {level}: frozen network (lines: black unstable, red stable),\n"
                      "contact creation (blue dots)", fontsize=9)
+        ax2.set_ylim(1e-3, 1e3)
         ax2.set_xlabel("t (s)")
         ax2.set_ylabel("total kinetic energy / launch energy")
     fig.tight_layout()

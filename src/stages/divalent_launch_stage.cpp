@@ -7,7 +7,8 @@
 // kinetic energies, the launch contacts still closed) go to a CSV file; the verdict follows
 // docs/stiffness.md: collapsed when more than collapse_fraction of the launch contacts have
 // opened, else rearranged when the kinetic energy exceeded energy_factor x the launch energy,
-// else arrested when the grain's energy fell below 1 % of it, else rolling. The run ends after
+// else arrested when the grain's energy fell below 1 % of it or the grain no longer touches
+// exactly its two neighbours at the end, else rolling. The run ends after
 // its turns, or at the first collapse (stop_on = "collapse") or rearrangement ("rearrangement").
 // A collapse under stop_on = "rearrangement" is then not awaited: with a frozen network the
 // energy can only come from the work of the stress on a failing network.
@@ -247,7 +248,11 @@ StageReport launch(RunContext<3>& ctx, const DivalentLaunchStage& p) {
     }
   }
   const bool rearranged = !collapsed && max_energy > p.energy_factor * e_launch;
-  const bool arrested = !collapsed && !rearranged && grain_energy(q) < 1e-2 * e_launch;
+  // The free rolling has ended when the grain has (nearly) stopped or no longer touches exactly
+  // its two neighbours (it met a third grain, or left one).
+  const bool rolling_on =
+      grain_energy(q) >= 1e-2 * e_launch && q.grain_contacts == 2 && q.n_ij > 0 && q.n_ik > 0;
+  const bool arrested = !collapsed && !rearranged && !rolling_on;
   const char* outcome = collapsed    ? "collapsed"
                         : rearranged ? "rearranged"
                         : arrested   ? "arrested"
