@@ -65,6 +65,12 @@ def main():
               f"{v['max_kinetic_over_launch']:.3g} | {int(v['min_launch_contacts_closed'])} / "
               f"{int(v['launch_contacts'])} | {int(v['max_new_contacts'])} | {v['phi_change']:.2g} | "
               f"{outcome(t)} |")
+    # How far the grain's contact forces drift in the runs still rolling (the launch's small
+    # centrifugal force should leave them unchanged).
+    drift = [max(abs(float(r["N_ij_over_F"]) / float(t["rows"][0]["N_ij_over_F"]) - 1)
+                 for r in t["rows"]) for t in tests if outcome(t) == "rolling" and t["mode"] == "frozen"]
+    if drift:
+        print(f"\nrolling frozen runs: largest change of N_ij over the run {100 * max(drift):.2g} %")
     print()
     print("| P | network | tests | collapsed | rearranged | arrested | rolling | [AR] |")
     print("|---|---|---|---|---|---|---|---|")
