@@ -101,6 +101,12 @@ template <int dim> void MdEngine<dim>::build_halo_and_list(double cutoff) {
   collectively(ctx_.world, [&] {
     list_.build(sys.particles, sys.cell, NeighborParams{settings_.skin, law_.interaction_range()});
   });
+  if (settings_.pair_allowed) {
+    const auto& id = sys.particles.id;
+    list_.retain_pairs([&](std::size_t i, std::size_t j) {
+      return settings_.pair_allowed(std::min(id[i], id[j]), std::max(id[i], id[j]));
+    });
+  }
   loop_.bind(sys.particles, list_, sys.contacts);
 }
 

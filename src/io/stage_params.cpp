@@ -351,6 +351,40 @@ StiffenStage StiffenStage::parse(StageTable& t) {
   return f;
 }
 
+DivalentLaunchStage DivalentLaunchStage::parse(StageTable& t) {
+  if (t.sample.dimension != 3)
+    t.reader.fail("kind", "= \"divalent_launch\" is 3D: [sample] dimension = " +
+                              std::to_string(t.sample.dimension));
+  if (!(t.material.friction > 0))
+    t.reader.fail("kind", "= \"divalent_launch\" needs friction ([material] friction > 0): a "
+                          "frictionless grain with two contacts carries no force");
+  DivalentLaunchStage d;
+  read_stress_target(t.reader, t.table, t.sample, false, d.control);
+  read_cell_controls(t.reader, d.control);
+  d.pick = t.reader.integer_or("pick", 0, Range::non_negative(),
+                               "which divalent grain, by decreasing contact force (0: largest)");
+  d.frozen_network = t.reader.boolean_or("frozen_network", false,
+                                         "only the pairs in contact at launch may interact");
+  d.centrifugal_ratio =
+      t.reader.number_or("centrifugal_ratio", d.centrifugal_ratio, Range::open(0.0, 1.0),
+                         "m omega0^2 D / |F| ([AR] App. E: 1e-4)");
+  d.turns = t.reader.number_or("turns", d.turns, Range::positive(),
+                               "turns of the grain's centre about its neighbours' axis");
+  d.max_steps = t.reader.integer_or("max_steps", 0, Range::non_negative(), "step limit (0: turns)");
+  d.record_every = t.reader.integer_or("record_every", d.record_every, Range::positive(),
+                                       "steps between trajectory rows");
+  d.collapse_fraction =
+      t.reader.number_or("collapse_fraction", d.collapse_fraction, Range::open(0.0, 1.0),
+                         "fraction of the launch contacts opened that means a collapse");
+  d.energy_factor = t.reader.number_or("energy_factor", d.energy_factor, Range::positive(),
+                                       "kinetic energy / launch energy that means a rearrangement");
+  d.stop_on = t.reader.choice_or("stop_on", d.stop_on, {"collapse", "rearrangement", "never"},
+                                 "what ends the run before its turns");
+  d.trajectory = t.reader.string_or("trajectory", d.trajectory,
+                                    "trajectory CSV, relative to the output directory");
+  return d;
+}
+
 namespace {
 
 template <std::size_t... I> std::vector<std::string> kind_names(std::index_sequence<I...>) {

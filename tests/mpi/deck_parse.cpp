@@ -94,8 +94,9 @@ TEST(Deck, ParsesEveryKeyWithDefaults) {
 // refused with this list: tests/decks/bad/unknown_stage.toml).
 TEST(Deck, StageKindsAreTheRegistryInDocumentationOrder) {
   const std::vector<std::string> documented = {
-      "lattice",        "random",       "read", "ed_gas", "ls_compress", "expand", "compress",
-      "pressure_steps", "fix_rattlers", "set",  "write",  "aggregate",   "stiffen"};
+      "lattice", "random",    "read",           "ed_gas",         "ls_compress",
+      "expand",  "compress",  "pressure_steps", "fix_rattlers",   "set",
+      "write",   "aggregate", "stiffen",        "divalent_launch"};
   EXPECT_EQ(stage_kinds(), documented);
 }
 
@@ -325,14 +326,26 @@ TEST(Deck, EveryShippedDeckIsValid) {
 // the value and what is allowed. Every rank must throw it (validation stops all ranks
 // together). tests/cli/bad_decks.sh runs unknown_key end to end.
 namespace {
-const std::vector<std::string> kBadDecks = {
-    "ed_gas_missing",    "expand_shrinks", "lattice_count",
-    "ls_above_jamming",  "missing_key",    "n_zero",
-    "negative_mu",       "no_stage",       "phi_above_one",
-    "placement_unknown", "poisson_range",  "pressure_steps_first",
-    "read_not_first",    "syntax_error",   "unknown_key",
-    "unknown_stage",     "unknown_table",  "wrong_type",
-    "zeta_one"};
+const std::vector<std::string> kBadDecks = {"divalent_frictionless",
+                                            "ed_gas_missing",
+                                            "expand_shrinks",
+                                            "lattice_count",
+                                            "ls_above_jamming",
+                                            "missing_key",
+                                            "n_zero",
+                                            "negative_mu",
+                                            "no_stage",
+                                            "phi_above_one",
+                                            "placement_unknown",
+                                            "poisson_range",
+                                            "pressure_steps_first",
+                                            "read_not_first",
+                                            "syntax_error",
+                                            "unknown_key",
+                                            "unknown_stage",
+                                            "unknown_table",
+                                            "wrong_type",
+                                            "zeta_one"};
 
 std::filesystem::path bad_deck_dir() {
   return test::source_dir() / "tests" / "decks" / "bad";

@@ -115,6 +115,30 @@ TYPED_TEST(VerletListTest, WholePeriodicSystemOnOneRankEqualsMinimumImage) {
   EXPECT_EQ(got, local);
 }
 
+// retain_pairs (a frozen contact network) keeps exactly the accepted pairs, in list order.
+TYPED_TEST(VerletListTest, RetainPairsKeepsTheAcceptedPairsInOrder) {
+  constexpr int dim = TypeParam::value;
+  std::mt19937_64 rng(23);
+  const auto w = TestFixture::world(rng);
+  auto v = test::make_rank<dim>(rng, w, Vec<dim>::Zero(), Vec<dim>::Ones(), w.max_cutoff());
+  VerletList<dim> list;
+  list.build(v.p, w.cell, w.prm);
+  const auto keep = [](std::size_t i, std::size_t j) { return (i + 2 * j) % 3 != 0; };
+  std::vector<std::pair<std::size_t, std::size_t>> expected;
+  list.for_each_pair([&](std::size_t i, std::size_t j) {
+    if (keep(i, j))
+      expected.emplace_back(i, j);
+  });
+  ASSERT_GT(expected.size(), 0u);
+  ASSERT_LT(expected.size(), list.n_pairs());
+  list.retain_pairs(keep);
+  std::vector<std::pair<std::size_t, std::size_t>> got;
+  list.for_each_pair([&](std::size_t i, std::size_t j) { got.emplace_back(i, j); });
+  EXPECT_EQ(got, expected);
+  EXPECT_EQ(list.n_pairs(), expected.size());
+  EXPECT_EQ(list.offsets().back(), expected.size());
+}
+
 TYPED_TEST(VerletListTest, RejectsACellShorterThanTwoCutoffs) {
   constexpr int dim = TypeParam::value;
   ParticleStore<dim> p;

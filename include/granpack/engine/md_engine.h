@@ -39,6 +39,9 @@ template <int dim> struct MdSettings {
   /// others are held at rest. Mobile grains also feel body_force(id) if it is set.
   const std::vector<GlobalId>* mobile = nullptr;
   std::function<Vec<dim>(GlobalId)> body_force;
+  /// When set, only the pairs of grains (id_a < id_b) it accepts may interact: a frozen
+  /// contact network ([AR] App. E tests without contact creation). Applied at every list build.
+  std::function<bool(GlobalId, GlobalId)> pair_allowed;
 };
 
 /// The settings the deck's [numerics] fix for every MD stage: the Verlet skin and the overlap

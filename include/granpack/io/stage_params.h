@@ -165,12 +165,38 @@ struct StiffenStage {
   friend bool operator==(const StiffenStage&, const StiffenStage&) = default;
 };
 
+/// [AR] App. E: one divalent grain (two backbone contacts, 3D with friction) launched along its
+/// free rolling (eqs. E1-E2), then MD under the constant stress, optionally with the contact
+/// network frozen; records the trajectory and says whether the network holds
+/// (docs/stiffness.md, "Is a divalent grain's free rolling stable?").
+struct DivalentLaunchStage {
+  static constexpr std::string_view kind = "divalent_launch";
+  static DivalentLaunchStage parse(StageTable& t);
+  std::int64_t pick = 0;       ///< 0: the divalent grain with the largest contact force, 1: next
+  bool frozen_network = false; ///< only the pairs in contact at launch may interact
+  double centrifugal_ratio = 1e-4; ///< m omega0^2 D / |F| ([AR]: 1e-4)
+  double turns = 1;                ///< run until the centre has turned this many times (at omega0)
+  std::int64_t max_steps = 0;      ///< 0: from turns
+  std::int64_t record_every = 500; ///< steps between trajectory rows
+  /// Collapse: more than this fraction of the contacts in place at launch have opened.
+  double collapse_fraction = 0.5;
+  /// Rearrangement: the kinetic energy exceeds this multiple of the launch energy.
+  double energy_factor = 10;
+  /// When the run stops before its turns: "collapse" (default), "rearrangement" (the first of
+  /// a rearrangement or a collapse: the network is failing) or "never".
+  std::string stop_on = "collapse";
+  std::string trajectory = "divalent_trajectory.csv"; ///< relative to the output directory
+  CompressStage control; ///< prescribed stress, fixed axes, cell mass (compress's keys)
+  friend bool operator==(const DivalentLaunchStage&, const DivalentLaunchStage&) = default;
+};
+
 /// The registry of stage kinds, one line each, in documentation order: stage_kinds() lists
 /// their names in this order, parse_deck() reads a [[stage]] table with the parse() of the
 /// kind it names, `granpack run` calls run_stage() on the parameters.
-using StageParams = std::variant<LatticeStage, RandomStage, ReadStage, EdGasStage, LsCompressStage,
-                                 ExpandStage, CompressStage, PressureStepsStage, FixRattlersStage,
-                                 SetStage, WriteStage, AggregateStage, StiffenStage>;
+using StageParams =
+    std::variant<LatticeStage, RandomStage, ReadStage, EdGasStage, LsCompressStage, ExpandStage,
+                 CompressStage, PressureStepsStage, FixRattlersStage, SetStage, WriteStage,
+                 AggregateStage, StiffenStage, DivalentLaunchStage>;
 
 /// Every stage kind the deck language knows, in documentation order (StageParams' order).
 const std::vector<std::string>& stage_kinds();

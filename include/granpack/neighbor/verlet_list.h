@@ -77,6 +77,23 @@ public:
   const std::vector<std::size_t>& offsets() const { return offsets_; }
   const std::vector<std::uint32_t>& neighbor_array() const { return neighbors_; }
 
+  /// Keeps only the pairs (i, j) with keep(i, j) true, in their order (a frozen contact
+  /// network lists the pairs of its initial contacts only). Pairs left out never interact
+  /// until the next build, so the rebuild criterion stays valid.
+  template <class Keep> void retain_pairs(Keep&& keep) {
+    const std::size_t n = n_owned();
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t first = offsets_[i], last = offsets_[i + 1];
+      offsets_[i] = w;
+      for (std::size_t k = first; k < last; ++k)
+        if (keep(i, static_cast<std::size_t>(neighbors_[k])))
+          neighbors_[w++] = neighbors_[k];
+    }
+    offsets_[n] = w;
+    neighbors_.resize(w);
+  }
+
   /// Calls f(i, j) for every listed pair, i owned in ascending order, j ascending.
   template <class F> void for_each_pair(F&& f) const {
     const std::size_t n = n_owned();

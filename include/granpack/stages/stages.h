@@ -26,6 +26,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const PressureSte
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlersStage& p);
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const AggregateStage& p);
 template <int dim> StageReport run_stage(RunContext<dim>& ctx, const StiffenStage& p);
+template <int dim> StageReport run_stage(RunContext<dim>& ctx, const DivalentLaunchStage& p);
 
 /// Removes the overlaps of randomly placed grains (fixed cell, soft repulsion, quench).
 template <int dim> StageReport remove_overlaps(RunContext<dim>& ctx);
