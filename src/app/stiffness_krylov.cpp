@@ -77,6 +77,7 @@ KrylovModuli<dim> krylov_moduli(const PackingView<dim>& v, const StiffnessSystem
   const bool k_uu_symmetric = !s.layout.rotations && !s.has_gram();
   {
     IterativeSolver k1 = iterative_solver(s.k1.uu, mech.uu, modes, k1_spd, rtol, max_iterations);
+    k1.label = "K(1)";
     out.k1 = condense_approximately<dim>(s.k1, forward(k1),
                                          symmetric_border(s.k1) ? GrainSolve() : forward(k1),
                                          s.layout, volume, VoigtVec<dim>::Zero());
@@ -84,6 +85,7 @@ KrylovModuli<dim> krylov_moduli(const PackingView<dim>& v, const StiffnessSystem
     out.converged = out.converged && k1.converged;
     if (!k_uu_symmetric) {
       IterativeSolver k = iterative_solver_sharing(s.k.uu, k1, false, rtol, max_iterations);
+      k.label = "K(1)+K(2)";
       out.k = condense_approximately<dim>(s.k, forward(k), adjoint(k), s.layout, volume, stress);
       out.report["K"] = solver_json(k);
       out.converged = out.converged && k.converged;
@@ -91,6 +93,7 @@ KrylovModuli<dim> krylov_moduli(const PackingView<dim>& v, const StiffnessSystem
   } // K(1)'s multigrid is freed before K's is built
   if (k_uu_symmetric) {
     IterativeSolver k = iterative_solver(s.k.uu, s.k.uu, modes, true, rtol, max_iterations);
+    k.label = "K(1)+K(2)";
     out.k = condense_approximately<dim>(s.k, forward(k),
                                         symmetric_border(s.k) ? GrainSolve() : forward(k), s.layout,
                                         volume, stress);

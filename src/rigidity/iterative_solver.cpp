@@ -98,8 +98,20 @@ void IterativeSolver::run(::Vec b, ::Vec x, bool transpose) {
     GRANPACK_PETSC(KSPSolveTranspose(ksp, b, x));
   else
     GRANPACK_PETSC(KSPSolve(ksp, b, x));
-  solve_seconds += seconds_since(start);
+  const double seconds = seconds_since(start);
+  solve_seconds += seconds;
   record(b, x, transpose);
+  if (!label.empty()) {
+    MPI_Comm comm = MPI_COMM_NULL;
+    GRANPACK_PETSC(PetscObjectGetComm(reinterpret_cast<PetscObject>(ksp.get()), &comm));
+    GRANPACK_PETSC(PetscFPrintf(comm, PETSC_STDERR,
+                                "stiffness: %s solve %zu%s: %s + %s, %lld iterations, |r|/|b| "
+                                "%.3g, %.1f s\n",
+                                label.c_str(), iterations.size(), transpose ? " (adjoint)" : "",
+                                method.c_str(), preconditioner.c_str(),
+                                static_cast<long long>(iterations.back()), residuals.back(),
+                                seconds));
+  }
 }
 
 void IterativeSolver::solve(::Vec b, ::Vec x) {

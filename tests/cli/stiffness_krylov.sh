@@ -30,9 +30,9 @@ for np in ${GRANPACK_TEST_RANKS:-1 2}; do
     check "$state, $np rank(s): the table lists what is not computed" \
       "grep -q 'not computed (no factorisation).*mechanisms' '$scratch/${state}_krylov$np.txt'"
   done
-  check_exit "A auto with --krylov-above 0 on $np rank(s)" 0 "$scratch/A_auto$np.txt" \
-    granpack_on $np stiffness "$GRANPACK_SOURCE_DIR/docs/data/A_n4000_seed1.h5" --krylov-above 0 \
-    --json "$scratch/A_auto$np.json"
+  check_exit "D auto with --krylov-above 0 on $np rank(s)" 0 "$scratch/D_auto$np.txt" \
+    granpack_on $np stiffness "$GRANPACK_SOURCE_DIR/docs/data/D_n4000_seed1.h5" --krylov-above 0 \
+    --json "$scratch/D_auto$np.json"
   check_refused "--modes with the Krylov path on $np rank(s)" 2 "needs the direct solver" \
     "$scratch/modes$np.txt" granpack_on $np stiffness "$GRANPACK_SOURCE_DIR/docs/data/A_n4000_seed1.h5" \
     --solver krylov --modes 2 --modes-file "$scratch/modes.h5"
@@ -59,7 +59,8 @@ for np_ in ranks:
             print(f"{tag}: {matrix}: {r['method']} + {r['preconditioner']}, iterations {its}, "
                   f"residuals max {max(res):.2g}, setup {r['setup_seconds']:.2f} s, solves {r['solve_seconds']:.2f} s")
             check(f"{tag}: {matrix} converged, {len(its)} solves", r["converged"] and len(its) >= 6)
-            check(f"{tag}: {matrix} true residuals {max(res):.2g} <= 1.01 rtol", max(res) <= 1.01 * s["krylov"]["rtol"])
+            # The recomputed |b - A x| may drift above CG's recurrence residual in rounding.
+            check(f"{tag}: {matrix} true residuals {max(res):.2g} <= 1.5 rtol", max(res) <= 1.5 * s["krylov"]["rtol"])
         for key in s["not_computed"]:
             check(f"{tag}: {key} not computed is null", jk[key] is None)
         check(f"{tag}: the mechanism count is among what is not computed",
@@ -76,8 +77,8 @@ for np_ in ranks:
         # The shear moduli of A are 1 % of c11 and 98 % non-affine: checked on their own scale.
         g_d, g_k = jd["elastic_tensor"]["shear_voigt"], jk["elastic_tensor"]["shear_voigt"]
         check(f"{tag}: G_V {g_k:.8g} against {g_d:.8g} to 1e-6 relative", abs(g_k - g_d) < 1e-6 * g_d)
-    ja = json.load(open(f"{d}/A_auto{np_}.json"))
-    check(f"A, {np_} rank(s): auto with --krylov-above 0 takes the Krylov path ({ja['solver']['reason']})",
+    ja = json.load(open(f"{d}/D_auto{np_}.json"))
+    check(f"D, {np_} rank(s): auto with --krylov-above 0 takes the Krylov path ({ja['solver']['reason']})",
           ja["solver"]["path"] == "krylov" and ja["solver"]["requested"] == "auto")
 PY
 checks_from "the comparison" "$scratch/py.txt" $?
