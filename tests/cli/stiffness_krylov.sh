@@ -59,8 +59,8 @@ for np_ in ranks:
             print(f"{tag}: {matrix}: {r['method']} + {r['preconditioner']}, iterations {its}, "
                   f"residuals max {max(res):.2g}, setup {r['setup_seconds']:.2f} s, solves {r['solve_seconds']:.2f} s")
             check(f"{tag}: {matrix} converged, {len(its)} solves", r["converged"] and len(its) >= 6)
-            # The recomputed |b - A x| may drift above CG's recurrence residual in rounding.
-            check(f"{tag}: {matrix} true residuals {max(res):.2g} <= 1.5 rtol", max(res) <= 1.5 * s["krylov"]["rtol"])
+            # Recomputed after each solve (which restarts while it is above rtol).
+            check(f"{tag}: {matrix} true residuals {max(res):.2g} <= rtol", max(res) <= s["krylov"]["rtol"])
         for key in s["not_computed"]:
             check(f"{tag}: {key} not computed is null", jk[key] is None)
         check(f"{tag}: the mechanism count is among what is not computed",

@@ -19,10 +19,12 @@ struct IterativeSolver {
   OwnedKsp ksp;
   std::string method;                   ///< KSP type that ran ("cg", "gmres", ...)
   std::string preconditioner;           ///< PC type ("gamg", or "shell" for another's AMG)
-  std::vector<std::int64_t> iterations; ///< per solve, in order
-  std::vector<double> residuals;        ///< |b - A x| / |b| per solve, recomputed after it
-  double setup_seconds = 0;             ///< the multigrid hierarchy
-  double solve_seconds = 0;             ///< every solve so far
+  std::vector<std::int64_t> iterations; ///< per solve, in order (restarts included)
+  /// |b - A x| / |b| per solve, recomputed after it; a solve whose recurrence stopped while
+  /// this was still above rtol is restarted from x (up to 3 times).
+  std::vector<double> residuals;
+  double setup_seconds = 0; ///< the multigrid hierarchy
+  double solve_seconds = 0; ///< every solve so far
   /// False once a solve has stopped short of rtol (iteration limit, breakdown, an indefinite
   /// matrix under CG): `failure` says how. Not thrown, so that what was reached is reported.
   bool converged = true;
@@ -40,7 +42,6 @@ struct IterativeSolver {
 
 private:
   void run(::Vec b, ::Vec x, bool transpose);
-  void record(::Vec b, ::Vec x, bool transpose);
 };
 
 /// `a` the operator; `amg_matrix` the symmetric positive-definite matrix the multigrid is
