@@ -97,6 +97,12 @@ KSPConvergedReason solve_once(KSP ksp, ::Vec b, ::Vec x, bool transpose, std::in
 } // namespace
 
 void IterativeSolver::run(::Vec b, ::Vec x, bool transpose) {
+  if (!converged) { // after a failed solve the result is invalid: the others are not tried
+    GRANPACK_PETSC(VecSet(x, 0.0));
+    iterations.push_back(0);
+    residuals.push_back(1.0);
+    return;
+  }
   const auto start = std::chrono::steady_clock::now();
   PetscReal rtol = 0;
   GRANPACK_PETSC(KSPGetTolerances(ksp, &rtol, nullptr, nullptr, nullptr));

@@ -26,7 +26,8 @@ struct IterativeSolver {
   double setup_seconds = 0; ///< the multigrid hierarchy
   double solve_seconds = 0; ///< every solve so far
   /// False once a solve has stopped short of rtol (iteration limit, breakdown, an indefinite
-  /// matrix under CG): `failure` says how. Not thrown, so that what was reached is reported.
+  /// matrix under CG): `failure` says how. Not thrown, so that what was reached is reported;
+  /// the later solves are skipped (x = 0, 0 iterations, residual 1).
   bool converged = true;
   std::string failure;
   /// With a label, each solve is logged on the communicator's rank 0 (stderr) as it ends: a
