@@ -141,6 +141,23 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   stiffness_cmd->add_option("--modes-file", modes_file,
                             "HDF5 file for --modes (an XDMF sidecar is written beside it)");
+  std::string stiffness_solver = "auto";
+  stiffness_cmd
+      ->add_option("--solver", stiffness_solver,
+                   "moduli by a factorisation (direct: also counts the mechanisms), by Krylov "
+                   "solves with multigrid (krylov: the moduli only), or auto (krylov above "
+                   "--krylov-above grain unknowns; default)")
+      ->check(CLI::IsMember({"direct", "krylov", "auto"}));
+  std::int64_t krylov_above = 300000;
+  stiffness_cmd
+      ->add_option("--krylov-above", krylov_above,
+                   "auto: Krylov path above this many grain unknowns (default 300000)")
+      ->check(CLI::Range(std::int64_t(0), std::int64_t(1) << 62));
+  double krylov_rtol = 1e-8;
+  stiffness_cmd
+      ->add_option("--krylov-rtol", krylov_rtol,
+                   "relative residual of each Krylov solve (default 1e-8)")
+      ->check(CLI::Range(1e-15, 1e-2));
   granpack::BenchOptions bench;
   std::string bench_data, bench_forces, bench_json;
   auto* bench_cmd =
@@ -268,6 +285,11 @@ int main(int argc, char** argv) {
       if ((stiffness_modes > 0) != !modes_file.empty())
         throw granpack::InputError("stiffness: --modes and --modes-file go together");
       s.modes = stiffness_modes;
+      s.solver = stiffness_solver == "direct"   ? granpack::StiffnessSolver::kDirect
+                 : stiffness_solver == "krylov" ? granpack::StiffnessSolver::kKrylov
+                                                : granpack::StiffnessSolver::kAuto;
+      s.krylov_above = krylov_above;
+      s.krylov_rtol = krylov_rtol;
       if (!modes_file.empty())
         s.modes_file = modes_file;
       if (!json_out.empty())

@@ -18,6 +18,7 @@
 #include "granpack/analysis/force_statistics.h"
 #include "granpack/app/analysis_sections.h"
 #include "granpack/app/stiffness_elastic_report.h"
+#include "granpack/app/stiffness_krylov.h"
 #include "granpack/app/stiffness_modes.h"
 #include "granpack/comm/allgather.h"
 #include "granpack/comm/communicator.h"
@@ -99,6 +100,121 @@ template <int dim> nlohmann::json moduli_json(const Moduli<dim>& m, bool valid) 
           {"elastic_tensor", elastic_tensor_json<dim>(m.tensor, m.affine)}};
 }
 
+/// What the factorisations give (docs/stiffness.md, "Mechanisms"): the counts, the inertia,
+/// the smallest eigenvalues, and the moduli when the backbone is rigid.
+template <int dim> struct DirectAnalysis {
+  std::int64_t null_pivots = 0, negative_pivots = 0, k1_negative = 0;
+  int strain_mechanisms = 0;
+  bool rigid = false, positive_definite = false;
+  std::vector<double> eigenvalues;
+  std::vector<std::vector<GlobalId>> floppy; ///< grains of each unexpected mechanism
+  std::optional<DirectSolver> ldl_k;         ///< inertia of K (frictionless)
+  Moduli<dim> m1, m;
+  std::int64_t gmres_iterations = 0;
+  double cholesky_seconds = 0, eigen_seconds = 0;
+};
+
+/// Counts the strain mechanisms: the null space of the (symmetric part of the) diagonal
+/// strains' Schur complement of the matrix whose null space is G's.
+template <int dim> int count_strain_mechanisms(const Moduli<dim>& mm, double mean_kn) {
+  const Vec<dim> mech_schur = schur_eigenvalues(mm);
+  int strain_mechanisms = 0;
+  for (int a = 0; a < dim; ++a)
+    strain_mechanisms += mech_schur[a] < 1e-9 * mean_kn;
+  return strain_mechanisms;
+}
+
+template <int dim>
+DirectAnalysis<dim> direct_analysis(const PackingView<dim>& v, StiffnessSystem<dim>& s,
+                                    const StiffnessOptions& opt, double volume) {
+  DirectAnalysis<dim> d;
+  const int g = s.grain_dofs();
+  // Mechanisms: the null space of G, that of mechanism_matrix() (K(1), or ᵀG|𝒦|G with
+  // distant pairs), whose factorisation counts the null pivots.
+  BorderedMatrix<dim>& mech = s.mechanism_matrix();
+  const DirectSolver chol = factorize(mech.uu, true, opt.null_pivot_threshold);
+  d.cholesky_seconds = chol.seconds;
+  d.null_pivots = chol.null_pivots;
+  d.negative_pivots = chol.negative_pivots;
+  const GrainSolve mech_solve = [&](::Vec b, ::Vec x) { chol.solve(b, x); };
+  const Moduli<dim> mm = condense<dim>(mech, mech_solve, s.layout, volume, VoigtVec<dim>::Zero());
+  d.strain_mechanisms = count_strain_mechanisms(mm, s.mean_kn);
+  d.rigid = chol.null_pivots == 0 && chol.negative_pivots == 0 && d.strain_mechanisms == 0;
+  // K(1) itself: the same factors without distant pairs, its own LDLᵀ (inertia) with them.
+  std::optional<DirectSolver> own_k1;
+  if (s.has_gram())
+    own_k1 = factorize(s.k1.uu, true, opt.null_pivot_threshold);
+  const DirectSolver& k1f = own_k1 ? *own_k1 : chol;
+  // Inertia of K(1): the negative eigenvalues that distant pairs can bring. On a floppy
+  // network the null pivots of a singular matrix come out with either sign, so the count is
+  // taken on K(1) + 1e-9 <k_n> 1: what is counted lies below -1e-9 <k_n>. Without distant
+  // pairs K(1) = ᵀG 𝒦 G with 𝒦 > 0 has none by construction.
+  if (s.has_gram()) {
+    OwnedMat shifted;
+    GRANPACK_PETSC(MatDuplicate(s.k1.uu, MAT_COPY_VALUES, shifted.address()));
+    GRANPACK_PETSC(MatShift(shifted, 1e-9 * s.mean_kn));
+    d.k1_negative = factorize(shifted, true, 0.0).negative_pivots;
+  }
+  d.eigenvalues = smallest_eigenvalues(s.k1.uu, k1f, opt.eigenvalues, s.mean_kn, &d.eigen_seconds);
+  if (opt.modes > 0)
+    write_stiffness_modes(v, s, k1f, opt.modes, opt.modes_file.value());
+  d.m1 = !own_k1 ? mm
+                 : condense<dim>(
+                       s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); }, s.layout, volume,
+                       VoigtVec<dim>::Zero());
+  d.positive_definite = d.rigid && k1f.null_pivots == 0 && k1f.negative_pivots == 0 &&
+                        d.k1_negative == 0 && schur_eigenvalues(d.m1)[0] > 1e-9 * s.mean_kn &&
+                        !d.eigenvalues.empty() && d.eigenvalues.front() > 0;
+  // Unexpected mechanisms are named; the response of such a backbone is not computed.
+  if (chol.null_pivots > 0)
+    d.floppy =
+        floppy_modes(mech.uu, s.numbering, g, s.mean_kn, int(chol.null_pivots) + 4, 1e-8, 1e-7);
+
+  // Without friction K = K(1) + K(2) is symmetric (central forces): its inertia says whether
+  // the prestress (K(2) is negative there, [AR] App. B) leaves the backbone stable.
+  if (d.positive_definite) {
+    if (!s.layout.rotations)
+      d.ldl_k = factorize(s.k.uu, true, opt.null_pivot_threshold);
+    // K = K(1) + K(2): GMRES preconditioned by the K(1) factors (no second factorisation).
+    PreconditionedSolver gmres = krylov_with_factors(s.k.uu, k1f, 1e-13);
+    d.m = condense<dim>(
+        s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, s.layout, volume,
+        stress_to_voigt<dim>(v.stress));
+    d.gmres_iterations = gmres.iterations;
+  }
+  return d;
+}
+
+/// Which path computes the moduli: the user's choice, or with `auto` the direct one up to
+/// opt.krylov_above grain unknowns (the factorisation's memory grows as n^{4/3} in 3D:
+/// 3.6 GB per rank for the 172 000 unknowns of D at n = 32 000).
+struct SolverChoice {
+  bool krylov = false;
+  std::string reason;
+};
+SolverChoice choose_solver(const StiffnessOptions& opt, std::int64_t unknowns) {
+  if (opt.solver == StiffnessSolver::kDirect)
+    return {false, "requested (--solver direct)"};
+  if (opt.solver == StiffnessSolver::kKrylov)
+    return {true, "requested (--solver krylov)"};
+  const bool big = unknowns > opt.krylov_above;
+  return {big, "auto: " + std::to_string(unknowns) + " grain unknowns " +
+                   (big ? "above " : "not above ") + std::to_string(opt.krylov_above)};
+}
+
+/// What the Krylov path does not compute (no factorisation: no pivots, no inertia, no
+/// shift-and-invert), reported as null and listed under solver.not_computed.
+const std::vector<std::string>& not_computed_by_krylov() {
+  static const std::vector<std::string> keys = {
+      "mechanisms",        "other_mechanisms",    "other_mechanism_grains",
+      "null_pivots",       "negative_pivots",     "H",
+      "H_over_Nf",         "isostatic",           "rigid",
+      "positive_definite", "K1_negative_pivots",  "K_negative_pivots",
+      "K_null_pivots",     "K_positive_definite", "smallest_eigenvalues_over_mean_kn",
+      "gmres_iterations_K"};
+  return keys;
+}
+
 template <int dim>
 nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const FileMeta& meta) {
   const auto start = std::chrono::steady_clock::now();
@@ -127,71 +243,30 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   const VirtualWork vw = check_virtual_work(s, sigma, volume, cohesive);
 
   const KnownMechanisms km = remove_known_mechanisms(s);
-  // Mechanisms: the null space of G, that of mechanism_matrix() (K(1), or ᵀG|𝒦|G with
-  // distant pairs), whose factorisation counts the null pivots.
-  BorderedMatrix<dim>& mech = s.mechanism_matrix();
-  const DirectSolver chol = factorize(mech.uu, true, opt.null_pivot_threshold);
-  const GrainSolve mech_solve = [&](::Vec b, ::Vec x) { chol.solve(b, x); };
-  const Moduli<dim> mm = condense<dim>(mech, mech_solve, s.layout, volume, VoigtVec<dim>::Zero());
-  // Strain mechanisms: the null space of the (symmetric) Schur complement.
-  const Vec<dim> mech_schur = schur_eigenvalues(mm);
-  int strain_mechanisms = 0;
-  for (int a = 0; a < dim; ++a)
-    strain_mechanisms += mech_schur[a] < 1e-9 * s.mean_kn;
-  const bool rigid = chol.null_pivots == 0 && chol.negative_pivots == 0 && strain_mechanisms == 0;
-  // K(1) itself: the same factors without distant pairs, its own LDLᵀ (inertia) with them.
-  std::optional<DirectSolver> own_k1;
-  if (s.has_gram())
-    own_k1 = factorize(s.k1.uu, true, opt.null_pivot_threshold);
-  const DirectSolver& k1f = own_k1 ? *own_k1 : chol;
-  // Inertia of K(1): the negative eigenvalues that distant pairs can bring. On a floppy
-  // network the null pivots of a singular matrix come out with either sign, so the count is
-  // taken on K(1) + 1e-9 <k_n> 1: what is counted lies below -1e-9 <k_n>. Without distant
-  // pairs K(1) = ᵀG 𝒦 G with 𝒦 > 0 has none by construction.
-  std::int64_t k1_negative = 0;
-  if (s.has_gram()) {
-    OwnedMat shifted;
-    GRANPACK_PETSC(MatDuplicate(s.k1.uu, MAT_COPY_VALUES, shifted.address()));
-    GRANPACK_PETSC(MatShift(shifted, 1e-9 * s.mean_kn));
-    k1_negative = factorize(shifted, true, 0.0).negative_pivots;
-  }
-  double eigen_seconds = 0;
-  const std::vector<double> eig =
-      smallest_eigenvalues(s.k1.uu, k1f, opt.eigenvalues, s.mean_kn, &eigen_seconds);
-  if (opt.modes > 0)
-    write_stiffness_modes(v, s, k1f, opt.modes, opt.modes_file.value());
-  const Moduli<dim> m1 = !own_k1 ? mm
-                                 : condense<dim>(
-                                       s.k1, [&](::Vec b, ::Vec x) { k1f.solve(b, x); }, s.layout,
-                                       volume, VoigtVec<dim>::Zero());
-  const bool positive_definite = rigid && k1f.null_pivots == 0 && k1f.negative_pivots == 0 &&
-                                 k1_negative == 0 && schur_eigenvalues(m1)[0] > 1e-9 * s.mean_kn &&
-                                 !eig.empty() && eig.front() > 0;
-  // Unexpected mechanisms are named; the response of such a backbone is not computed.
-  std::vector<std::vector<GlobalId>> floppy;
-  if (chol.null_pivots > 0)
-    floppy =
-        floppy_modes(mech.uu, s.numbering, g, s.mean_kn, int(chol.null_pivots) + 4, 1e-8, 1e-7);
+  const std::int64_t n_star = s.numbering.grains;
+  const SolverChoice choice = choose_solver(opt, n_star * g);
+  if (choice.krylov && opt.modes > 0) // known on every rank: global counts
+    throw InputError("stiffness: --modes needs the direct solver (" + choice.reason +
+                     "); run with --solver direct");
 
-  // Without friction K = K(1) + K(2) is symmetric (central forces): its inertia says whether
-  // the prestress (K(2) is negative there, [AR] App. B) leaves the backbone stable.
-  std::optional<DirectSolver> ldl_k;
-  Moduli<dim> m;
-  std::int64_t gmres_iterations = 0;
-  if (positive_definite) {
-    if (!s.layout.rotations)
-      ldl_k = factorize(s.k.uu, true, opt.null_pivot_threshold);
-    // K = K(1) + K(2): GMRES preconditioned by the K(1) factors (no second factorisation).
-    PreconditionedSolver gmres = krylov_with_factors(s.k.uu, k1f, 1e-13);
-    m = condense<dim>(
-        s.k, [&](::Vec b, ::Vec x) { gmres.solve(b, x); }, s.layout, volume,
-        stress_to_voigt<dim>(v.stress));
-    gmres_iterations = gmres.iterations;
-  }
+  std::optional<DirectAnalysis<dim>> direct;
+  std::optional<KrylovModuli<dim>> krylov;
+  if (choice.krylov)
+    krylov = krylov_moduli<dim>(v, s, stress_to_voigt<dim>(v.stress), opt.krylov_rtol,
+                                opt.krylov_max_iterations);
+  else
+    direct = direct_analysis(v, s, opt, volume);
+  // Without a factorisation the strain mechanisms still come from the Schur complement of
+  // K(1) (the Krylov path condenses it too); the unexpected ones are not counted.
+  const int strain_mechanisms =
+      direct ? direct->strain_mechanisms : count_strain_mechanisms(krylov->k1, s.mean_kn);
+  const bool moduli_valid = direct ? direct->positive_definite : krylov->converged;
+  const Moduli<dim>& m = direct ? direct->m : krylov->k;
+  const Moduli<dim>& m1 = direct ? direct->m1 : krylov->k1;
 
   // Counts, eq. (19)-(20).
-  const std::int64_t n_star = s.numbering.grains;
-  const std::int64_t other = chol.null_pivots > 0 ? std::int64_t(floppy.size()) : 0;
+  const std::int64_t other =
+      direct && direct->null_pivots > 0 ? std::int64_t(direct->floppy.size()) : 0;
   const std::int64_t k = dim + std::int64_t(km.divalent.size()) + std::int64_t(km.pivoting.size()) +
                          other + strain_mechanisms;
   const std::int64_t nf = s.dof();
@@ -225,7 +300,6 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   j["divalent_mechanisms"] = std::int64_t(km.divalent.size());
   j["pivoting_mechanisms"] = std::int64_t(km.pivoting.size());
   j["other_mechanisms"] = other;
-  j["null_pivots"] = chol.null_pivots;
   j["strain_mechanisms"] = strain_mechanisms;
   j["rattler_mechanisms"] = std::int64_t(rattlers.size()) * g;
   nlohmann::json div = nlohmann::json::array();
@@ -238,12 +312,9 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
         {{"grain", d.grain}, {"neighbour", d.neighbours[0]}, {"grains", d.neighbours[1]}});
   j["pivoting_grains"] = piv;
   j["pivoting_mode_residual"] = km.pivoting_residual;
-  j["other_mechanism_grains"] = floppy;
   j["rattler_grains"] = rattlers;
   j["divalent_mode_residual"] = km.divalent_residual;
   j["pinned_grain"] = km.pinned_grain;
-  j["negative_pivots"] = chol.negative_pivots;
-  j["smallest_eigenvalues_over_mean_kn"] = eig;
   j["modes_file"] = opt.modes > 0 ? nlohmann::json(opt.modes_file->string()) : nlohmann::json();
   j["H"] = h;
   j["H_over_Nf"] = double(h) / double(n_star * g);
@@ -252,15 +323,22 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   j["H_over_Nf_eq37"] =
       cohesive || s.layout.rolling ? nlohmann::json() : nlohmann::json(eq37.per_dof);
   j["isostatic"] = h == 0 && k == dim;
-  j["positive_definite"] = positive_definite;
-  j["rigid"] = rigid;
-  j["K1_negative_pivots"] = k1_negative;
-  if (ldl_k) {
-    j["K_negative_pivots"] = ldl_k->negative_pivots;
-    j["K_null_pivots"] = ldl_k->null_pivots;
-    j["K_positive_definite"] = ldl_k->negative_pivots == 0 && ldl_k->null_pivots == 0;
-  } else {
-    j["K_negative_pivots"] = j["K_null_pivots"] = j["K_positive_definite"] = nullptr;
+  j["K_negative_pivots"] = j["K_null_pivots"] = j["K_positive_definite"] = nullptr;
+  if (direct) {
+    j["other_mechanism_grains"] = direct->floppy;
+    j["null_pivots"] = direct->null_pivots;
+    j["negative_pivots"] = direct->negative_pivots;
+    j["smallest_eigenvalues_over_mean_kn"] = direct->eigenvalues;
+    j["positive_definite"] = direct->positive_definite;
+    j["rigid"] = direct->rigid;
+    j["K1_negative_pivots"] = direct->k1_negative;
+    if (direct->ldl_k) {
+      j["K_negative_pivots"] = direct->ldl_k->negative_pivots;
+      j["K_null_pivots"] = direct->ldl_k->null_pivots;
+      j["K_positive_definite"] =
+          direct->ldl_k->negative_pivots == 0 && direct->ldl_k->null_pivots == 0;
+    }
+    j["gmres_iterations_K"] = direct->gmres_iterations;
   }
   j["virtual_work_residual"] = vw.residual;
   j["virtual_work_reference"] = cohesive ? "|f| (contact forces)" : "|F_ext|";
@@ -272,12 +350,24 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   j["prescribed_stress"] = sig;
   j["stress_from_forces"] = sig_f;
   j["mean_kn"] = s.mean_kn;
-  j["gmres_iterations_K"] = gmres_iterations;
+  j["solver"] = {{"requested", opt.solver == StiffnessSolver::kDirect   ? "direct"
+                               : opt.solver == StiffnessSolver::kKrylov ? "krylov"
+                                                                        : "auto"},
+                 {"path", choice.krylov ? "krylov" : "direct"},
+                 {"reason", choice.reason},
+                 {"grain_unknowns", n_star * g},
+                 {"krylov", krylov ? krylov->report : nlohmann::json()},
+                 {"not_computed", choice.krylov ? nlohmann::json(not_computed_by_krylov())
+                                                : nlohmann::json::array()}};
+  if (krylov) // null, not a count that would look like a result
+    for (const auto& key : not_computed_by_krylov())
+      j[key] = nullptr;
 
-  // With an unexpected mechanism the response is not defined: the moduli are null.
-  j["moduli_valid"] = positive_definite;
-  j.update(moduli_json(m, positive_definite));
-  j["constitutive"] = moduli_json(m1, positive_definite);
+  // With an unexpected mechanism the response is not defined: the moduli are null. On the
+  // Krylov path: with a solve that stopped short of its tolerance.
+  j["moduli_valid"] = moduli_valid;
+  j.update(moduli_json(m, moduli_valid));
+  j["constitutive"] = moduli_json(m1, moduli_valid);
   // eq. (30), Hertz monodisperse 3D only: the packing's own z = 2 N_c*/n, Phi and Z(5/3).
   const auto& mat = v.contact_law;
   const double z = 2.0 * double(s.contacts) / double(v.n);
@@ -291,10 +381,9 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
                        std::pow(z * v.phi / (3.0 * std::numbers::pi), 2.0 / 3.0) *
                        std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure);
     j["bulk_modulus_eq30"] = b30;
-    j["bulk_modulus_over_eq30"] =
-        positive_definite ? nlohmann::json(m.bulk / b30) : nlohmann::json();
+    j["bulk_modulus_over_eq30"] = moduli_valid ? nlohmann::json(m.bulk / b30) : nlohmann::json();
     j["bulk_modulus_reduced"] =
-        positive_definite
+        moduli_valid
             ? nlohmann::json(m.bulk / (std::pow(e_tilde, 2.0 / 3.0) * std::cbrt(v.pressure)))
             : nlohmann::json();
   } else {
@@ -305,13 +394,21 @@ nlohmann::json stiffness(MPI_Comm world, const StiffnessOptions& opt, const File
   j["partition"] = {{"method", s.numbering.metis ? "metis" : "none (one rank)"},
                     {"edge_cut_metis", s.numbering.edge_cut_metis},
                     {"edge_cut_spatial", s.numbering.edge_cut_spatial}};
+  const auto krylov_seconds = [&](const char* matrix) {
+    if (!krylov || !krylov->report.contains(matrix))
+      return 0.0;
+    const nlohmann::json& r = krylov->report[matrix];
+    return r["setup_seconds"].template get<double>() + r["solve_seconds"].template get<double>();
+  };
   j["timings_seconds"] = {
       {"assembly", s.assembly_seconds},
-      {"cholesky_K1", chol.seconds},
-      {"eigensolve", eigen_seconds},
+      {"cholesky_K1", direct ? direct->cholesky_seconds : 0.0},
+      {"eigensolve", direct ? direct->eigen_seconds : 0.0},
       {"condensation_K1", m1.seconds},
-      {"condensation_K_gmres", m.seconds},
-      {"ldlt_K", ldl_k ? ldl_k->seconds : 0.0},
+      {"condensation_K_gmres", direct ? m.seconds : 0.0},
+      {"ldlt_K", direct && direct->ldl_k ? direct->ldl_k->seconds : 0.0},
+      {"krylov_K1", krylov_seconds("K1")},
+      {"krylov_K", krylov_seconds("K")},
       {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
   return j;
 }
@@ -324,7 +421,40 @@ std::string fixed(const nlohmann::json& v) {
   return b;
 }
 std::string count(const nlohmann::json& v) {
-  return std::to_string(v.get<long long>());
+  return v.is_null() ? "-" : std::to_string(v.get<long long>());
+}
+
+/// The moduli's solver: the path, why, and on the Krylov path each matrix's method, largest
+/// iteration count and true residual over its solves, and what was not computed.
+std::vector<std::pair<std::string, std::string>> solver_lines(const nlohmann::json& solver) {
+  std::vector<std::pair<std::string, std::string>> lines = {
+      {"moduli solver",
+       solver["path"].get<std::string>() + " (" + solver["reason"].get<std::string>() + ")"}};
+  const auto& k = solver["krylov"];
+  if (k.is_null())
+    return lines;
+  for (const char* matrix : {"K1", "K"}) {
+    if (!k.contains(matrix))
+      continue;
+    const auto& r = k[matrix];
+    long long its = 0;
+    double res = 0;
+    for (const auto& i : r["iterations"])
+      its = std::max(its, i.get<long long>());
+    for (const auto& x : r["residuals"])
+      res = std::max(res, x.get<double>());
+    lines.emplace_back(std::string("  ") + (matrix[1] == '1' ? "K(1)" : "K(1)+K(2)") + ": " +
+                           r["method"].get<std::string>() + ", " +
+                           r["preconditioner"].get<std::string>(),
+                       std::to_string(r["iterations"].size()) + " solves, max " +
+                           std::to_string(its) + " its, max |r|/|b| " + fixed(res) +
+                           (r["converged"].get<bool>() ? "" : " NOT CONVERGED"));
+  }
+  std::string skipped;
+  for (const auto& key : solver["not_computed"])
+    skipped += (skipped.empty() ? "" : ", ") + key.get<std::string>();
+  lines.emplace_back("  not computed (no factorisation)", skipped);
+  return lines;
 }
 std::string yes_no(const nlohmann::json& v) {
   return v.is_null() ? "-" : v.get<bool>() ? "yes" : "no";
@@ -386,8 +516,12 @@ std::string table(const nlohmann::json& j) {
       {"time: condense K1, K (GMRES its)", fixed(t["condensation_K1"]) + ", " +
                                                fixed(t["condensation_K_gmres"]) + " (" +
                                                count(j["gmres_iterations_K"]) + ")"},
+      {"time: Krylov K1, K; total (s)",
+       fixed(t["krylov_K1"]) + ", " + fixed(t["krylov_K"]) + "; " + fixed(t["total"])},
   };
   std::vector<std::pair<std::string, std::string>> all = lines;
+  const auto solver = solver_lines(j["solver"]);
+  all.insert(all.begin() + 1, solver.begin(), solver.end());
   // The tensor's lines after the diagonal-strain moduli.
   const auto shear = std::find_if(all.begin(), all.end(), [](const auto& line) {
     return line.first.starts_with("shear modulus");

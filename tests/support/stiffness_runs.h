@@ -17,10 +17,12 @@
 
 namespace granpack::test {
 
-inline nlohmann::json run_stiffness(const std::filesystem::path& file, double threshold = 1e-4) {
+inline nlohmann::json run_stiffness(const std::filesystem::path& file, double threshold = 1e-4,
+                                    StiffnessSolver solver = StiffnessSolver::kAuto) {
   StiffnessOptions o;
   o.file = file;
   o.threshold = threshold;
+  o.solver = solver;
   // An exception must not leave the capture open: the next test's capture would abort the
   // whole executable, and the exception's message would be lost.
   testing::internal::CaptureStdout();

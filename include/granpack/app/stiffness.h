@@ -4,6 +4,7 @@
 // Distributed (PETSc/SLEPc, METIS); collective on world.
 #include <mpi.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -11,6 +12,11 @@
 #include "granpack/contact/derived_constants.h"
 
 namespace granpack {
+
+/// How the moduli are computed (docs/stiffness.md, "Moduli of large packings"): a sparse
+/// factorisation (which also counts the mechanisms), Krylov solves with an algebraic
+/// multigrid (the moduli only), or the first up to `krylov_above` grain unknowns.
+enum class StiffnessSolver { kDirect, kKrylov, kAuto };
 
 struct StiffnessOptions {
   std::filesystem::path file;
@@ -25,6 +31,14 @@ struct StiffnessOptions {
   /// this HDF5 file and its XDMF sidecar (app/stiffness_modes.h).
   int modes = 0;
   std::optional<std::filesystem::path> modes_file;
+  StiffnessSolver solver = StiffnessSolver::kAuto;
+  /// `auto` takes the Krylov path above this many grain unknowns (g n*): the direct path's
+  /// largest measured case, D at n = 32 000, has 172 000 and takes 3.6 GB per rank.
+  std::int64_t krylov_above = 300000;
+  /// Relative true residual of each Krylov solve; the condensation's error is of order
+  /// rtol^2 cond(K) (rigidity/condensation.h).
+  double krylov_rtol = 1e-8;
+  int krylov_max_iterations = 20000;
 };
 
 /// Returns the JSON text of the results (on every rank); rank 0 prints the table.

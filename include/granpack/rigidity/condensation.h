@@ -37,4 +37,15 @@ template <int dim>
 Moduli<dim> condense(const BorderedMatrix<dim>& b, const GrainSolve& solve,
                      const RigidityLayout<dim>& layout, double volume, const VoigtVec<dim>& stress);
 
+/// The same from approximate solves (an iterative solver stopped at a relative residual
+/// rtol): C_IJ = K_ee - (K_eu,I . x_J + y_I . r_J) with x_J ~ K_uu^{-1} K_ue,J, its residual
+/// r_J = K_ue,J - K_uu x_J and y_I ~ K_uu^{-T} K_eu,I (`adjoint`; empty when K_uu and its
+/// border are symmetric, y = x). The error is -(y - y*)ᵀ K_uu (x - x*), second order in the
+/// solves' errors: of order rtol² cond(K_uu) relative, where the plain formula would be off by
+/// rtol cond(K_uu) — which matters for nearly isostatic packings (cond ~ 1e6).
+template <int dim>
+Moduli<dim> condense_approximately(const BorderedMatrix<dim>& b, const GrainSolve& solve,
+                                   const GrainSolve& adjoint, const RigidityLayout<dim>& layout,
+                                   double volume, const VoigtVec<dim>& stress);
+
 } // namespace granpack

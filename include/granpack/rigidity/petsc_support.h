@@ -55,6 +55,7 @@ private:
 using OwnedMat = PetscHandle<Mat, MatDestroy>;
 using OwnedVec = PetscHandle<::Vec, VecDestroy>;
 using OwnedKsp = PetscHandle<KSP, KSPDestroy>;
+using OwnedNullSpace = PetscHandle<MatNullSpace, MatNullSpaceDestroy>;
 
 } // namespace granpack
 
