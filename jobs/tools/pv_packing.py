@@ -18,7 +18,7 @@ import os
 import sys
 
 from paraview import servermanager
-from paraview.simple import (ExtractBlock, GetActiveViewOrCreate, GetColorTransferFunction,
+from paraview.simple import (ColorBy, ExtractBlock, GetActiveViewOrCreate, GetColorTransferFunction,
                              Render, ResetCamera, SaveScreenshot, Show, Threshold, Tube,
                              XDMFReader, CellDatatoPointData, ExtractSurface, Calculator)
 
@@ -101,13 +101,32 @@ def slab(source, info, fraction):
     return threshold(z, "z_coordinate", mid - half, mid + half, points=True)
 
 
-def render(reader, info, png, size, dimension, strong, slab_fraction):
-    view = GetActiveViewOrCreate("RenderView")
-    view.ViewSize = size
-    view.OrientationAxesVisibility = 0
-    view.Background = [1, 1, 1]
-    if hasattr(view, "UseColorPaletteForBackground"):
-        view.UseColorPaletteForBackground = 0
+def colour_grains(g, info, array):
+    """Colours the grains by a point array: cluster_id by one flat colour per cluster,
+    anything else by a sequential map over its range
+    (a tensor or vector by its magnitude)."""
+    arrays_ = info["particles"]["point_arrays"]
+    if array not in arrays_:
+        die(f"--colour {array}: the file's grains have no such array (they have {', '.join(sorted(arrays_))})")
+    components = arrays_[array]["components"]
+    ColorBy(g, ("POINTS", array) if components == 1 else ("POINTS", array, "Magnitude"))
+    lut = GetColorTransferFunction(array)
+    lo, hi = arrays_[array]["range"]
+    if array == "cluster_id":
+        lut.ApplyPreset("Rainbow Uniform", True)
+        lut.Discretize = 1  # one flat colour per cluster id
+        lut.NumberOfTableValues = max(int(hi - lo) + 1, 2)
+        lut.RescaleTransferFunction(lo, max(hi, lo + 1))
+    else:
+        lut.ApplyPreset("Viridis (matplotlib)", True)
+        if components == 1:
+            lut.RescaleTransferFunction(lo, max(hi, lo + 1e-300))
+    g.LookupTable = lut
+
+
+def render(reader, info, png, size, dimension, strong, slab_fraction, colour=None,
+           no_contacts=False):
+    view = white_view(size)
     cut = slab_fraction if dimension == 3 else 1.0
     grains = slab(ExtractBlock(Input=reader, Selectors=["/Root/particles"]), info, cut)
     g = Show(grains, view)
@@ -120,8 +139,10 @@ def render(reader, info, png, size, dimension, strong, slab_fraction):
     g.GaussianRadius = 1.0
     g.ColorArrayName = [None, ""]
     g.AmbientColor = g.DiffuseColor = [0.82, 0.82, 0.82]
+    if colour:
+        colour_grains(g, info, colour)
     g.Opacity = 1.0 if dimension == 2 else 0.2 if cut < 1 else 0.35
-    if "contacts" in info and info["contacts"]["cells"] > 0:
+    if "contacts" in info and info["contacts"]["cells"] > 0 and not no_contacts:
         contacts = slab(ExtractBlock(Input=reader, Selectors=["/Root/contacts"]), info, cut)
         fmin, fmax = info["contacts"]["cell_arrays"]["normal_force"]["range"]
         radius = info["particles"]["point_arrays"]["radius"]["range"][1]
@@ -145,15 +166,32 @@ def render(reader, info, png, size, dimension, strong, slab_fraction):
         lut.ApplyPreset("Inferno (matplotlib)", True)
         lut.RescaleTransferFunction(0.0, max(fmax, 1e-300))
         lut.InvertTransferFunction()
+    save_view(view, png, size, dimension, cut, zoom_2d=1.3)
+
+
+def white_view(size):
+    """The render view, white, without axes (pv_modes.py draws in the same)."""
+    view = GetActiveViewOrCreate("RenderView")
+    view.ViewSize = size
+    view.OrientationAxesVisibility = 0
+    view.Background = [1, 1, 1]
+    if hasattr(view, "UseColorPaletteForBackground"):
+        view.UseColorPaletteForBackground = 0
+    return view
+
+
+def save_view(view, png, size, dimension, cut, zoom_2d):
+    """Frames the scene (2D face on; a 3D slab face on down z, the whole 3D cell from above at
+    an angle) and writes the PNG."""
     if dimension == 2:
         view.InteractionMode = "2D"
     ResetCamera(view)
-    if dimension == 3 and cut >= 1:  # a slab is seen face on, down z
+    if dimension == 3 and cut >= 1:
         cam = view.GetActiveCamera()
         cam.Elevation(25)
         cam.Azimuth(30)
         ResetCamera(view)
-    view.GetActiveCamera().Zoom(1.3 if dimension == 2 else 1.1)
+    view.GetActiveCamera().Zoom(zoom_2d if dimension == 2 else 1.1)
     Render(view)
     SaveScreenshot(png, view, ImageResolution=size)
 
@@ -169,6 +207,10 @@ def main():
                     help="draw the compressive contacts with N > X <N> only (1: [AR]'s strong network)")
     ap.add_argument("--slab", type=float, default=1.0, metavar="FRACTION",
                     help="3D: draw only the middle FRACTION of the cell along z")
+    ap.add_argument("--colour", metavar="ARRAY",
+                    help="colour the grains by this point array (e.g. cluster_id, mean_stress, "
+                         "bond_order; default grey)")
+    ap.add_argument("--no-contacts", action="store_true", help="draw the grains only")
     args = ap.parse_args()
     if not os.path.isfile(args.xdmf):
         die(f"{args.xdmf}: no such file")
@@ -184,7 +226,8 @@ def main():
                        "times": [float(t) for t in reader.TimestepValues]}, f, indent=1)
     if args.png:
         info["mean_compressive_force"] = mean_compressive_force(reader)
-        render(reader, info, args.png, args.size, dimension, args.strong, args.slab)
+        render(reader, info, args.png, args.size, dimension, args.strong, args.slab, args.colour,
+               args.no_contacts)
         print(args.png)
 
 

@@ -3,7 +3,8 @@
 # each file (a deck whose one stage reads it, with the file's own [sample] and [material]), which
 # gives it its /network group and XDMF sidecar, then jobs/tools/pv_packing.py renders the force
 # network under pvbatch (on a virtual X server, jobs/tools/with_xvfb.sh: Debian's ParaView draws
-# through X).
+# through X); for a picture of a mode, `granpack stiffness --modes` writes the modes of the
+# rewritten file and jobs/tools/pv_modes.py draws one.
 #   bash jobs/tools/render_pictures.sh [OUT_DIR]     (default docs/figures/visualisation)
 # Needs the build (build/granpack, or GRANPACK_EXE) and paraview, python3-paraview, xvfb.
 set -euo pipefail
@@ -19,14 +20,18 @@ mkdir -p "$dest"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# label  file (under docs/data)  size  pv_packing.py options
+# label  file (under docs/data)  size  what (packing: pv_packing.py; mode_K: pv_modes.py --mode K)
+# and its options
 pictures=(
-  "A_strong_network A_n4000_seed1.h5 560 --strong 1 --slab 0.35"
-  "D_strong_network D_n4000_seed1.h5 560 --strong 1 --slab 0.35"
-  "GRC_seriesA_P0.01 2d/seriesA_P0.01.h5 600"
+  "A_strong_network A_n4000_seed1.h5 560 packing --strong 1 --slab 0.35"
+  "D_strong_network D_n4000_seed1.h5 560 packing --strong 1 --slab 0.35"
+  "GRC_seriesA_P0.01 2d/seriesA_P0.01.h5 600 packing"
+  "GRC_three_clusters 2d/v0A_0.095_three_clusters.h5 600 packing --colour cluster_id"
+  "A_softest_mode A_n4000_seed1.h5 560 mode_0 --above 0.2"
+  "GRC_seriesA_P0.01_softest_mode 2d/seriesA_P0.01.h5 600 mode_0"
 )
 for entry in "${pictures[@]}"; do
-  read -r label file size options <<< "$entry"
+  read -r label file size what options <<< "$entry"
   src="$root/docs/data/$file"
   # The stored deck up to its first stage, then one `read` stage of the file itself.
   ROOT="$root" /usr/bin/python3 - "$src" "$work/$label.toml" <<'PY'
@@ -40,8 +45,18 @@ with open(sys.argv[2], "w") as f:
 PY
   mpiexec -n 2 "$exe" run "$work/$label.toml" -o "$work/$label" -q < /dev/null > "$work/$label.log" 2>&1 \
     || { tail -5 "$work/$label.log" >&2; exit 1; }
-  bash "$root/jobs/tools/with_xvfb.sh" pvbatch "$root/jobs/tools/pv_packing.py" \
-    "$work/$label/final.xdmf" --png "$dest/$label.png" --size "$size" "$size" ${options:-} > /dev/null
+  if [ "$what" = packing ]; then
+    bash "$root/jobs/tools/with_xvfb.sh" pvbatch "$root/jobs/tools/pv_packing.py" \
+      "$work/$label/final.xdmf" --png "$dest/$label.png" --size "$size" "$size" ${options:-} > /dev/null
+  else
+    mode=${what#mode_}
+    OPENBLAS_NUM_THREADS=1 mpiexec -n 2 "$exe" stiffness "$work/$label/final.h5" --modes $((mode + 1)) \
+      --modes-file "$work/$label/modes.h5" < /dev/null > "$work/$label.stiffness.log" 2>&1 \
+      || { tail -5 "$work/$label.stiffness.log" >&2; exit 1; }
+    bash "$root/jobs/tools/with_xvfb.sh" pvbatch "$root/jobs/tools/pv_modes.py" \
+      "$work/$label/modes.xdmf" --mode "$mode" --png "$dest/$label.png" --size "$size" "$size" \
+      ${options:-} > /dev/null
+  fi
   # 256 colours (Pillow, which matplotlib brings): a third of the size, the same look.
   /usr/bin/python3 -c 'import sys; from PIL import Image
 im = Image.open(sys.argv[1]).convert("RGB")

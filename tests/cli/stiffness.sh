@@ -62,6 +62,35 @@ assert x.count('AttributeType="Vector"') == 8 and "modes.h5:/modes/3/displacemen
 PY
 check_exit "--modes without --modes-file" 2 "$scratch/bm.txt" "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --modes 2
 
+
+# --modes in 2D (the triangular crystal of jobs/decks/ci/triangular_linear.toml, friction, so
+# rotations): displacements are [n, 2], rotations a scalar per grain, the modes unit and
+# orthogonal in (u, theta ell) with the JSON's eigenvalues, the pinned grain's mode on it alone.
+check_exit "2D crystal run" 0 "$scratch/run2.txt" granpack_on 1 run \
+  "$GRANPACK_SOURCE_DIR/jobs/decks/ci/triangular_linear.toml" -o "$scratch/tri" -q
+check_exit "2D stiffness --modes 3" 0 "$scratch/sm2.txt" granpack_on 2 stiffness "$scratch/tri/final.h5" \
+  --json "$scratch/sm2.json" --modes 3 --modes-file "$scratch/modes2.h5"
+check_python "2D modes file: shapes, unit and orthogonal modes, eigenvalues, the pinned grain" \
+  "$scratch/pym2.txt" "$scratch/sm2.json" "$scratch/modes2.h5" "$scratch/modes2.xdmf" <<'PY'
+import json, os, sys
+import numpy as np
+sys.path.insert(0, os.environ["GRANPACK_SOURCE_DIR"] + "/jobs/tools")
+import granpack_io as gio
+j, m = json.load(open(sys.argv[1])), gio.read_modes(sys.argv[2])
+n, ev, ell = len(m["id"]), m["eigenvalues"], m["rotation_length"]
+assert m["dimension"] == 2 and n == 128 and m["position"].shape == (n, 2), (m["dimension"], n)
+assert m["displacement"].shape == (3, n, 2) and m["rotation"].shape == (3, n), m["rotation"].shape
+assert np.allclose(ev, j["smallest_eigenvalues_over_mean_kn"][:3], rtol=1e-9, atol=0), ev
+V = np.array([np.concatenate([u.ravel(), r * ell]) for u, r in zip(m["displacement"], m["rotation"])])
+assert np.allclose(V @ V.T, np.eye(3), atol=1e-9), V @ V.T
+pinned = m["id"] == j["pinned_grain"]
+for k in range(3):  # the pinned grain's rows are <k_n> 1: it moves in the eigenvalue-1 modes only
+    a = np.linalg.norm(m["displacement"][k][pinned])
+    assert (abs(a - 1) < 1e-9) if abs(ev[k] - 1) < 1e-9 else (a < 1e-9), (k, ev[k], a)
+x = open(sys.argv[3]).read()
+assert 'GeometryType="XY"' in x and x.count('AttributeType="Vector"') == 3, x
+assert x.count('Name="mode_0_rotation" AttributeType="Scalar"') == 1, x
+PY
 check_refused "missing file" 2 "does_not_exist.h5" "$scratch/m.txt" "$GRANPACK_EXE" stiffness "$scratch/does_not_exist.h5"
 check_exit "bad --null-pivot" 2 "$scratch/b.txt" "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --null-pivot 0
 

@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# ParaView opens what `granpack stiffness --modes` writes and the 3D grain stress tensor
+# (docs/visualisation.md, docs/stiffness.md "Modes as fields"). A Hertz FCC crystal (3D, 108
+# grains, friction) is run on 1 rank (a 2-rank file: tests/cli/paraview.sh): pvbatch reads its
+# final.xdmf with `stress` a 9-component tensor whose range is the file's, and
+# jobs/tools/pv_modes.py reads the modes file of a 2-rank `stiffness --modes 3`: one point per
+# grain, radius/id/backbone, each mode_k and mode_k_rotation a 3-vector, |u| of each mode as
+# ParaView computes it equal to the file's (granpack_io.read_modes). The 2D triangular crystal
+# (jobs/decks/ci/triangular_linear.toml, friction; stiffness on 1 rank): the same with mode_k a
+# 2-vector (ParaView pads it to 3) and mode_k_rotation a scalar. Each picture of a mode is a PNG
+# of 420 x 420 with more than 20 colours. A file without modes and a mode the file does not hold
+# are refused (exit 2, naming them). Skipped (exit 77) where pvbatch or Xvfb is absent.
+set -u
+: "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
+. "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
+for tool in pvbatch Xvfb; do
+  if ! command -v "$tool" > /dev/null; then
+    echo "SKIPPED: $tool not found (apt-get install paraview python3-paraview xvfb; bash jobs/setup.sh test does)"
+    exit 77
+  fi
+done
+cli_scratch
+export MPLCONFIGDIR="$scratch/mpl"
+tools="$GRANPACK_SOURCE_DIR/jobs/tools"
+pvrun() { bash "$tools/with_xvfb.sh" pvbatch "$@"; }
+
+# The FCC deck at 3 x 3 x 3 cells (108 grains) started nearer close packing: 5 000 steps.
+sed -e 's/^n = 256/n = 108/' -e 's/^phi = 0.73 .*/phi = 0.738/' -e 's/^cells = \[4, 4, 4\]/cells = [3, 3, 3]/' \
+  "$GRANPACK_SOURCE_DIR/jobs/decks/ci/fcc_hertz.toml" > "$scratch/fcc_hertz.toml"
+cp "$GRANPACK_SOURCE_DIR/jobs/decks/ci/triangular_linear.toml" "$scratch/"
+for d in 3 2; do
+  deck=$([ $d -eq 3 ] && echo fcc_hertz || echo triangular_linear)
+  out="$scratch/d$d" np=$((d - 1))
+  check_exit "${d}D: $deck run" 0 "$scratch/run$d.txt" granpack_on 1 run "$scratch/$deck.toml" -o "$out" -q ||
+    checks_stop paraview_modes "$scratch/run$d.txt"
+  check_exit "${d}D: stiffness --modes 3 on $np rank(s)" 0 "$scratch/st$d.txt" \
+    granpack_on $np stiffness "$out/final.h5" --json "$scratch/st$d.json" --modes 3 \
+    --modes-file "$scratch/modes$d.h5" || checks_stop paraview_modes "$scratch/st$d.txt"
+  check_exit "${d}D: pvbatch reads the modes file and draws mode 0" 0 "$scratch/pvm$d.txt" \
+    pvrun "$tools/pv_modes.py" "$scratch/modes$d.xdmf" --summary "$scratch/modes$d.json" \
+    --png "$scratch/mode$d.png" --size 420 420
+  check "${d}D: mode 0 is a PNG of 420 x 420" "big_png '$scratch/mode$d.png' 3000"
+  check_python "${d}D: ParaView's view of the modes file is the file's" "$scratch/py$d.txt" \
+    "$scratch/modes$d.h5" "$scratch/modes$d.json" "$scratch/mode$d.png" <<'PY'
+import json, os, sys
+sys.path.insert(0, os.environ["GRANPACK_SOURCE_DIR"] + "/jobs/tools")
+import numpy as np
+import matplotlib.image
+import granpack_io as gio
+m, s = gio.read_modes(sys.argv[1]), json.load(open(sys.argv[2]))
+dim, n, K = m["dimension"], len(m["id"]), len(m["eigenvalues"])
+g = s["grids"] if "grids" in s else s["grains"]
+assert s["dimension"] == dim and K == 3, (s["dimension"], dim, K)
+assert g["points"] == n and g["cells"] == n, (g["points"], g["cells"], n)
+got = {k: v["components"] for k, v in g["point_arrays"].items()}
+want = {"radius": 1, "id": 1, "backbone": 1}
+for k in range(K):
+    want[f"mode_{k}"] = 3  # ParaView pads a 2D vector to 3 components
+    want[f"mode_{k}_rotation"] = 3 if dim == 3 else 1
+assert got == want, (got, want)
+assert s["modes"] == [f"mode_{k}" for k in range(K)], s["modes"]
+for k in range(K):
+    a = np.linalg.norm(m["displacement"][k], axis=1)
+    r = s["magnitude_range"][f"mode_{k}"]
+    assert np.allclose(r, [a.min(), a.max()], rtol=1e-12, atol=1e-15), (k, r, a.min(), a.max())
+    first = m["rotation"][k][:, 0] if dim == 3 else m["rotation"][k]
+    rr = g["point_arrays"][f"mode_{k}_rotation"]["range"]
+    assert np.allclose(rr, [first.min(), first.max()], rtol=1e-12, atol=1e-15), (k, rr)
+assert np.allclose(g["point_arrays"]["id"]["range"], [m["id"].min(), m["id"].max()])
+img = matplotlib.image.imread(sys.argv[3])[:, :, :3]
+colours = len(np.unique(img.reshape(-1, 3), axis=0))
+assert colours > 20, colours
+print(f"{dim}D: {n} grains, {K} modes, |u| ranges as in the file, picture of {colours} colours")
+PY
+done
+
+# The 3D grain stress tensor as ParaView reads it (the 2D one: tests/cli/paraview.sh).
+check_exit "3D: pvbatch reads final.xdmf" 0 "$scratch/pv3.txt" \
+  pvrun "$tools/pv_packing.py" "$scratch/d3/final.xdmf" --summary "$scratch/packing3.json"
+check_python "3D: stress is a 9-component tensor with the file's range" "$scratch/pys.txt" \
+  "$scratch/d3/final.h5" "$scratch/packing3.json" <<'PY'
+import json, os, sys
+sys.path.insert(0, os.environ["GRANPACK_SOURCE_DIR"] + "/jobs/tools")
+import numpy as np
+import granpack_io as gio
+p, s = gio.read_packing(sys.argv[1]), json.load(open(sys.argv[2]))
+a = s["grids"]["particles"]["point_arrays"]
+assert a["stress"]["components"] == 9, a["stress"]
+sxx = np.asarray(p.network["stress"]).reshape(p.n, -1)[:, 0]
+assert np.allclose(a["stress"]["range"], [sxx.min(), sxx.max()], rtol=1e-12), (a["stress"]["range"], sxx.min(), sxx.max())
+# The trace over 3 is the mean stress the file also stores.
+t = np.asarray(p.network["stress"]).reshape(p.n, 3, 3).trace(axis1=1, axis2=2) / 3
+assert np.allclose(t, p.network["mean_stress"], rtol=1e-12, atol=1e-9 * abs(t).max()), abs(t - p.network["mean_stress"]).max()
+for k in ("net_force", "angular_velocity", "velocity"):
+    assert a[k]["components"] == 3, (k, a[k])
+print("stress: 9 components, range", a["stress"]["range"])
+PY
+
+# Refusals come before ParaView is imported: plain python3 gives them.
+check_refused "pv_modes.py on a packing (no modes)" 2 "holds no mode_k" "$scratch/nomodes.txt" \
+  /usr/bin/python3 "$tools/pv_modes.py" "$scratch/d3/final.xdmf"
+check_refused "pv_modes.py --mode 5 of 3" 2 "mode 5: the file holds modes 0 to 2" "$scratch/mode5.txt" \
+  /usr/bin/python3 "$tools/pv_modes.py" "$scratch/modes2.xdmf" --mode 5 --png "$scratch/x.png"
+check_refused "pv_modes.py on a missing file" 2 "nope.xdmf: no such file" "$scratch/nope.txt" \
+  /usr/bin/python3 "$tools/pv_modes.py" "$scratch/nope.xdmf"
+check "no picture of a refused mode" "[ ! -e '$scratch/x.png' ]"
+
+checks_done paraview_modes
