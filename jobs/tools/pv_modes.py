@@ -37,7 +37,8 @@ def paraview_api():
     """Imports ParaView's modules (pvbatch only) into this module's namespace."""
     from paraview import servermanager
     from paraview.simple import Calculator, ColorBy, GetColorTransferFunction, Glyph, Show, XDMFReader
-    from pv_packing import arrays, blocks, save_view, slab, threshold, white_view
+    from pv_packing import (arrays, blocks, save_view, show_grains, slab, threshold,
+                            white_view)
     globals().update(locals())
 
 
@@ -82,14 +83,7 @@ def render(reader, info, mode, png, size, dimension, slab_fraction, above):
     amplitude = Calculator(Input=shown, ResultArrayName="amplitude", Function=f"mag({name})")
     moving = threshold(amplitude, "amplitude", above * umax, umax, points=True)
     for source, opacity in ((shown, 1.0 if dimension == 2 else 0.08), (moving, 1.0)):
-        g = Show(source, view)
-        g.SetRepresentationType("Point Gaussian")
-        g.ShaderPreset = "Sphere" if dimension == 3 else "Plain circle"
-        g.ScaleByArray = 1
-        g.SetScaleArray = ["POINTS", "radius"]
-        if hasattr(g, "UseScaleFunction"):
-            g.UseScaleFunction = 0
-        g.GaussianRadius = 1.0
+        g = show_grains(source, view, dimension)
         ColorBy(g, ("POINTS", name, "Magnitude"))
         g.LookupTable = lut
         g.Opacity = opacity

@@ -129,14 +129,7 @@ def render(reader, info, png, size, dimension, strong, slab_fraction, colour=Non
     view = white_view(size)
     cut = slab_fraction if dimension == 3 else 1.0
     grains = slab(ExtractBlock(Input=reader, Selectors=["/Root/particles"]), info, cut)
-    g = Show(grains, view)
-    g.SetRepresentationType("Point Gaussian")
-    g.ShaderPreset = "Sphere" if dimension == 3 else "Plain circle"
-    g.ScaleByArray = 1
-    g.SetScaleArray = ["POINTS", "radius"]
-    if hasattr(g, "UseScaleFunction"):
-        g.UseScaleFunction = 0
-    g.GaussianRadius = 1.0
+    g = show_grains(grains, view, dimension)
     g.ColorArrayName = [None, ""]
     g.AmbientColor = g.DiffuseColor = [0.82, 0.82, 0.82]
     if colour:
@@ -167,6 +160,20 @@ def render(reader, info, png, size, dimension, strong, slab_fraction, colour=Non
         lut.RescaleTransferFunction(0.0, max(fmax, 1e-300))
         lut.InvertTransferFunction()
     save_view(view, png, size, dimension, cut, zoom_2d=1.3)
+
+
+def show_grains(source, view, dimension):
+    """Shows the points of `source` as spheres (2D: disks) of their `radius` array; returns the
+    display (pv_modes.py draws its grains with it too)."""
+    g = Show(source, view)
+    g.SetRepresentationType("Point Gaussian")
+    g.ShaderPreset = "Sphere" if dimension == 3 else "Plain circle"
+    g.ScaleByArray = 1
+    g.SetScaleArray = ["POINTS", "radius"]
+    if hasattr(g, "UseScaleFunction"):
+        g.UseScaleFunction = 0
+    g.GaussianRadius = 1.0
+    return g
 
 
 def white_view(size):

@@ -16,16 +16,10 @@
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
-for tool in pvbatch Xvfb; do
-  if ! command -v "$tool" > /dev/null; then
-    echo "SKIPPED: $tool not found (apt-get install paraview python3-paraview xvfb; bash jobs/setup.sh test does)"
-    exit 77
-  fi
-done
+require_pvbatch
 cli_scratch
 export MPLCONFIGDIR="$scratch/mpl"
 pv="$GRANPACK_SOURCE_DIR/jobs/tools/pv_packing.py"
-pvrun() { bash "$GRANPACK_SOURCE_DIR/jobs/tools/with_xvfb.sh" pvbatch "$@"; }
 
 # A 2D cohesive packing (compressive and tensile contacts) rewritten by a 2-rank run: a deck
 # with the committed file's own [sample] and [material] and one `read` stage.

@@ -13,16 +13,10 @@
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
-for tool in pvbatch Xvfb; do
-  if ! command -v "$tool" > /dev/null; then
-    echo "SKIPPED: $tool not found (apt-get install paraview python3-paraview xvfb; bash jobs/setup.sh test does)"
-    exit 77
-  fi
-done
+require_pvbatch
 cli_scratch
 export MPLCONFIGDIR="$scratch/mpl"
 tools="$GRANPACK_SOURCE_DIR/jobs/tools"
-pvrun() { bash "$tools/with_xvfb.sh" pvbatch "$@"; }
 
 # The FCC deck at 3 x 3 x 3 cells (108 grains) started nearer close packing: 5 000 steps.
 sed -e 's/^n = 256/n = 108/' -e 's/^phi = 0.73 .*/phi = 0.738/' -e 's/^cells = \[4, 4, 4\]/cells = [3, 3, 3]/' \

@@ -127,3 +127,15 @@ wait_until() {
   done
   return 1
 }
+# The ParaView tests: skipped (exit 77) where pvbatch or Xvfb is absent; pvrun runs pvbatch on
+# a private virtual X server (Debian's ParaView draws through X only: jobs/tools/with_xvfb.sh).
+require_pvbatch() {
+  local tool
+  for tool in pvbatch Xvfb; do
+    if ! command -v "$tool" > /dev/null; then
+      echo "SKIPPED: $tool not found (apt-get install paraview python3-paraview xvfb; bash jobs/setup.sh test does)"
+      exit 77
+    fi
+  done
+}
+pvrun() { bash "$GRANPACK_SOURCE_DIR/jobs/tools/with_xvfb.sh" pvbatch "$@"; }
