@@ -8,7 +8,9 @@
 #   bash jobs/runs/collapse_study.sh [RANKS] [CASES...]
 # CASE = B_rr | B_rr_M0.001 | B_rr_M0.001_cap0.015 | B_rr_M0.001_P0.005 | B_rr_perlength |
 #        A | A_M0.001 | A_nq | A_rr | A_rr_zr0 | B | B_nq | B_dl | B_relax | B_nq_relax;
-#        default: all. Method 1 at P* = 0.005 (the other half of the pressure
+#        default: all. Parts combine: A_rr_s2_M0.001 starts series A with RR from sample 2 of
+#        its ensemble (jobs/runs/ar_ensembles/2d/method2_seriesA_rr_quench/sample_2/P0.h5)
+#        with the cell mass 0.001 sum(m); perlength divides the cell mass by L0/a ([GRC]). Method 1 at P* = 0.005 (the other half of the pressure
 # comparison): PRESSURE=5.0 bash jobs/runs/method1_sweep.sh 3 1 0.36-0.15-norr 0.36-0.5-rr
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -60,6 +62,9 @@ for p in parts[1:]:
     elif p == "dl":  # the P* = 0 state (kappa 1e2) of the delayed-quench deck
         sub(r'^file = "docs/data/2d/seriesB_P0_kappa1e2.h5"$',
             'file = "docs/data/2d/seriesB_delayed_P0_kappa1e2.h5"')
+    elif p[0] == "s" and p[1:].isdigit():  # series A with RR: ensemble sample N's P* = 0 state
+        sub(r'^file = "docs/data/2d/seriesA_rr_P0.h5"$',
+            f'file = "jobs/runs/ar_ensembles/2d/method2_seriesA_rr_quench/sample_{p[1:]}/P0.h5"')
     elif p == "perlength":
         sub(r"^(cell_mass = .*)$", r"\1\ncell_mass_per_length = true")
     elif p not in ("rr", "relax"):  # relax: in the base deck

@@ -2,6 +2,10 @@
 """One line per case from BASE/<case>/report.json: the last `compress` stage's Phi, z, z_int
 (every interaction, distant pairs included: [GRC]'s z with cohesion), z* and x0 ([AR]'s
 rattler rule), steps and wall seconds. Used by the jobs/runs/ sweeps.
+
+With --ensemble BASE2 [BASE3 ...] (the same cases run with other seeds, e.g. out/2d/table2_seed2
+from SEED=2 bash jobs/runs/method1_sweep.sh 2), one line per case over every base that has its
+report: K, and the mean and sample standard deviation (ddof = 1) of Phi, z and z_int.
 """
 import argparse
 import json
@@ -18,6 +22,52 @@ def mean_sd(values):
     return statistics.mean(values), statistics.stdev(values) if len(values) > 1 else None
 
 
+def report_path(base, case):
+    """BASE/<case>/report.json (a run directory) or BASE/<case>.report.json (the reports
+    committed under docs/data/2d/table2, table3, ...)."""
+    run = os.path.join(base, case, "report.json")
+    flat = os.path.join(base, case + ".report.json")
+    return run if os.path.exists(run) or not os.path.exists(flat) else flat
+
+
+def chosen_stage(report, stage):
+    """The stage named `stage`, or the last compress stage; None if there is none."""
+    chosen = [s for s in report["stages"]
+              if (s["name"] == stage if stage else s["kind"] == "compress")]
+    return chosen[-1] if chosen else None
+
+
+def ensemble_table(bases, cases, stage):
+    """Per case: K samples (the bases with a report and an equilibrated stage) and mean +- sd."""
+    def cell(values, prec):
+        if not values:
+            return f"{'-':>17}"
+        m, sd = mean_sd(values)
+        return f"{m:{prec + 3}.{prec}f} +- {sd:.{prec}f}" if sd is not None else f"{m:{prec + 3}.{prec}f}" + " " * (prec + 5)
+    print(f"{'case':>22} {'K':>2} {'Phi':>17} {'z':>15} {'z_int':>15}  not equilibrated")
+    for c in cases:
+        phis, zs, zints, skipped = [], [], [], []
+        for base in bases:
+            try:
+                with open(report_path(base, c)) as f:
+                    s = chosen_stage(json.load(f), stage)
+            except OSError:
+                continue
+            if s is None:
+                continue
+            if not s.get("equilibrated", True):
+                skipped.append(os.path.basename(os.path.normpath(base)))
+                continue
+            phis.append(s["phi"])
+            if isinstance(s.get("z"), (int, float)):
+                zs.append(s["z"])
+            z_int = s.get("values", {}).get("z_interactions")
+            if isinstance(z_int, (int, float)):
+                zints.append(z_int)
+        print(f"{c:>22} {len(phis):2d} {cell(phis, 4)} {cell(zs, 3)} {cell(zints, 3)}  "
+              f"{' '.join(skipped)}")
+
+
 def main(argv):
     ap = argparse.ArgumentParser(prog="case_table.py", description=__doc__)
     ap.add_argument("base")
@@ -27,23 +77,26 @@ def main(argv):
     ap.add_argument("--mean", action="store_true",
                     help="a last line with the mean and sample standard deviation of Phi and "
                          "z_int over the cases that have a report")
+    ap.add_argument("--ensemble", nargs="+", metavar="BASE",
+                    help="more bases holding the same cases (other seeds): print mean, sd and "
+                         "K per case instead of one line per run")
     args = ap.parse_args(argv)
+    if args.ensemble:
+        return ensemble_table([args.base] + args.ensemble, args.cases, args.stage)
     base, cases, stage, mean = args.base, args.cases, args.stage, args.mean
     phis, zs = [], []
     print(f"{'case':>22} {'Phi':>8} {'z':>6} {'z_int':>6} {'z*':>6} {'x0':>6} {'steps':>9} {'wall s':>8}")
     for c in cases:
         try:
-            with open(os.path.join(base, c, "report.json")) as f:
+            with open(report_path(base, c)) as f:
                 r = json.load(f)
         except OSError:
             print(f"{c:>22}  (no report.json)")
             continue
-        chosen = [s for s in r["stages"]
-                  if (s["name"] == stage if stage else s["kind"] == "compress")]
-        if not chosen:
+        s = chosen_stage(r, stage)
+        if s is None:
             print(f"{c:>22}  (no stage {stage or 'of kind compress'})")
             continue
-        s = chosen[-1]
         z_int = s.get("values", {}).get("z_interactions")
         phis.append(s["phi"])
         if isinstance(z_int, (int, float)):
