@@ -205,8 +205,16 @@ SetStage SetStage::parse(StageTable& t) {
     s.friction = t.reader.number("friction", Range::non_negative(), "new friction coefficient");
   if (t.reader.has("damping"))
     s.damping = t.reader.number("damping", Range::half_open(0.0, 1.0), "new damping fraction zeta");
-  if (!s.friction && !s.damping)
-    t.reader.fail("kind", "= \"set\" changes nothing: give friction and/or damping");
+  if (t.reader.has("rolling_damping")) {
+    s.rolling_damping = t.reader.number("rolling_damping", Range::half_open(0.0, 1.0),
+                                        "new rolling damping zeta_r");
+    if (!(t.material.rolling_stiffness > 0))
+      t.reader.fail("rolling_damping",
+                    "needs rolling resistance: the deck's [material] has no rolling_stiffness > 0");
+  }
+  if (!s.friction && !s.damping && !s.rolling_damping)
+    t.reader.fail("kind",
+                  "= \"set\" changes nothing: give friction, damping and/or rolling_damping");
   return s;
 }
 

@@ -38,6 +38,8 @@ StateParameters replayed_parameters(const Deck& deck, int stage_index) {
         m.friction = *s->friction;
       if (s->damping)
         m.damping = *s->damping;
+      if (s->rolling_damping)
+        m.rolling_damping = *s->rolling_damping;
     } else if (const auto* f = std::get_if<StiffenStage>(&st.params)) {
       if (f->scale_rolling)
         m.rolling_stiffness *= f->normal_stiffness / m.normal_stiffness;

@@ -16,6 +16,10 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const SetStage& p
     os << " damping " << ctx.contact_law.damping_ratio << " -> " << *p.damping;
     ctx.contact_law.damping_ratio = *p.damping;
   }
+  if (p.rolling_damping) {
+    os << " rolling_damping " << ctx.contact_law.rolling_damping << " -> " << *p.rolling_damping;
+    ctx.contact_law.rolling_damping = *p.rolling_damping;
+  }
   ctx.log->info(os.str());
   return StageReport{};
 }

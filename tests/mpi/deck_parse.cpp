@@ -245,6 +245,23 @@ TEST(Deck, MethodTwoKeys) {
                 .find("pressure: = 0.0 is out of range"),
             std::string::npos); // P = 0 needs cohesion
 
+  // set rolling_damping: an aggregation without zeta_r, the stages after it with it. Refused
+  // without rolling resistance; replayed from the set stage on.
+  EXPECT_NE(message_of(stage(kGood, "friction = 0.15", "rolling_damping = 0.1"))
+                .find("rolling_damping: needs rolling resistance"),
+            std::string::npos);
+  EXPECT_NE(message_of(stage(cohesive, "friction = 0.15", "rolling_damping = 1.0"))
+                .find("rolling_damping: = 1.0 is out of range"),
+            std::string::npos);
+  const Deck zr =
+      parse_deck(stage(cohesive, "friction = 0.15", "rolling_damping = 0.1"), "zr.toml");
+  EXPECT_EQ(*std::get<SetStage>(zr.stages[1].params).rolling_damping, 0.1);
+  EXPECT_FALSE(std::get<SetStage>(zr.stages[1].params).friction);
+  EXPECT_EQ(replayed_parameters(zr, 0).contact_law.rolling_damping, 0.0); // the [material]'s
+  EXPECT_EQ(replayed_parameters(zr, 1).contact_law.rolling_damping, 0.1);
+  EXPECT_EQ(replayed_parameters(zr, 1).contact_law.friction,
+            replayed_parameters(zr, 0).contact_law.friction);
+
   // aggregate: quench_interval (0 by default) is read and must not be negative.
   const std::string agg = "[[stage]]\nkind = \"aggregate\"\nvelocity_ratio = 9.48\nquench_interval "
                           "= 20000\n\n[[stage]]\nkind = \"write\"";

@@ -68,6 +68,9 @@ struct SetStage {
   static constexpr std::string_view kind = "set";
   static SetStage parse(StageTable& t);
   std::optional<double> friction, damping;
+  /// Rolling damping zeta_r from here on (needs the deck's rolling_stiffness > 0): e.g. an
+  /// aggregation without it, as [GRC]'s model, and the equilibration stages with it.
+  std::optional<double> rolling_damping;
   friend bool operator==(const SetStage&, const SetStage&) = default;
 };
 struct WriteStage {
