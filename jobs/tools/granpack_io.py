@@ -481,7 +481,13 @@ def read_modes(path):
     'eigenvalues' (K, over <k_n>, ascending), 'id', 'position' (n, dim; m), 'radius', 'backbone'
     (n, bool: off the backbone a grain is at rest in every mode), 'displacement' (K, n, dim),
     'rotation' (K, n, 3 in 3D, K, n in 2D; rad; None without rotations), 'rotation_length'
-    (ell: each mode has unit norm in (u, theta ell)), 'mean_kn', 'dimension'."""
+    (ell: each mode has unit norm in (u, theta ell)), 'mean_kn', 'dimension', 'cell_length'
+    (dim; m; None in files written before it), 'divalent' (n, bool) and, when the packing has
+    divalent grains (3D, friction), 'divalent_grains': a dict of 'grain' (m ids), 'neighbours'
+    (m, 2 ids, ascending), 'contact_points' (m, 2, 3: from the grain's centre, m, in the order
+    of the neighbours), 'displacement' and 'rotation' (n, 3: every divalent grain's free
+    rolling about the line through its two contact points, each of unit norm in (u, theta ell),
+    every other grain at rest); None without."""
     with _open_h5(path) as f:
         if _text(f.attrs.get("kind", "")) != "stiffness_modes":
             raise GranpackFileError(f"{path}: not a stiffness modes file (kind != stiffness_modes)")
@@ -489,13 +495,26 @@ def read_modes(path):
     m, g = d["modes"], d["grains"]
     k = len(m["eigenvalue_over_mean_kn"])
     rot = [m[str(i)].get("rotation") for i in range(k)]
+    n = len(g["id"])
+    divalent = None
+    if "divalent" in d:
+        v = d["divalent"]
+        divalent = {"grain": np.asarray(v["grain"]).astype(np.int64),
+                    "neighbours": np.asarray(v["neighbours"]).astype(np.int64).reshape(-1, 2),
+                    "contact_points": np.asarray(v["contact_points"]).reshape(-1, 2, 3),
+                    "displacement": np.asarray(v["rolling"]["displacement"]),
+                    "rotation": np.asarray(v["rolling"]["rotation"])}
     return {"eigenvalues": np.asarray(m["eigenvalue_over_mean_kn"]),
             "id": np.asarray(g["id"]).astype(np.int64), "position": np.asarray(g["position"]),
             "radius": np.asarray(g["radius"]), "backbone": np.asarray(g["backbone"]) == 1,
             "displacement": np.array([m[str(i)]["displacement"] for i in range(k)]),
             "rotation": None if k == 0 or rot[0] is None else np.array(rot),
             "rotation_length": float(d["rotation_length"]), "mean_kn": float(d["mean_kn"]),
-            "dimension": int(d["dimension"])}
+            "dimension": int(d["dimension"]),
+            "cell_length": np.asarray(d["cell_length"]) if "cell_length" in d else None,
+            "divalent": (np.asarray(g["divalent"]) == 1 if "divalent" in g
+                         else np.zeros(n, dtype=bool)),
+            "divalent_grains": divalent}
 
 
 class Report:

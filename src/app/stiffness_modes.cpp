@@ -2,8 +2,11 @@
 
 #ifdef GRANPACK_HAVE_RIGIDITY
 
+#include <array>
+#include <map>
 #include <nlohmann/json.hpp>
 
+#include "granpack/analysis/rigidity_blocks.h"
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/communicator.h"
 #include "granpack/comm/gather.h"
@@ -28,15 +31,47 @@ nlohmann::json modes_document(const PackingView<dim>& v, const StiffnessSystem<d
   doc["mean_kn"] = s.mean_kn;
   doc["rotation_length"] = s.layout.ell;
   doc["rotations"] = s.layout.rotations;
-  nlohmann::json id = nlohmann::json::array(), position = id, radius = id, backbone = id;
+  const Vec<dim>& length = v.system.cell.length;
+  doc["cell_length"] = std::vector<double>(length.data(), length.data() + dim);
+  // The divalent grains' free rollings (s.divalent: two records per grain, every rank's).
+  std::map<GlobalId, std::array<double, 6>> rolling;
+  nlohmann::json div_grain = nlohmann::json::array(), neighbours = div_grain, points = div_grain;
+  for (std::size_t k = 0; k + 1 < s.divalent.size(); k += 2) {
+    const DivalentContact &c1 = s.divalent[k], &c2 = s.divalent[k + 1];
+    const Vec<3> p1(c1.branch[0], c1.branch[1], c1.branch[2]),
+        p2(c2.branch[0], c2.branch[1], c2.branch[2]);
+    const Eigen::Matrix<double, 6, 1> x = divalent_rolling_mode(p1, p2, s.layout.ell);
+    // The unknowns are (u, rho = theta * ell): the file holds u and theta (rad).
+    rolling[c1.grain] = {
+        x[0], x[1], x[2], x[3] / s.layout.ell, x[4] / s.layout.ell, x[5] / s.layout.ell};
+    div_grain.push_back(c1.grain);
+    neighbours.push_back({c1.neighbour, c2.neighbour});
+    points.push_back({p1[0], p1[1], p1[2], p2[0], p2[1], p2[2]});
+  }
+  nlohmann::json id = nlohmann::json::array(), position = id, radius = id, backbone = id,
+                 divalent = id, rolling_u = id, rolling_theta = id;
   for (const auto& p : grains) {
     id.push_back(p.id);
     const Vec<dim> x = v.system.cell.to_real(Cell<dim>::wrap(p.position));
     position.push_back(std::vector<double>(x.data(), x.data() + dim));
     radius.push_back(p.radius);
     backbone.push_back(s.numbering.index.count(p.id) ? 1 : 0);
+    const auto r = rolling.find(p.id);
+    divalent.push_back(r == rolling.end() ? 0 : 1);
+    const std::array<double, 6> x6 = r == rolling.end() ? std::array<double, 6>{} : r->second;
+    rolling_u.push_back({x6[0], x6[1], x6[2]});
+    rolling_theta.push_back({x6[3], x6[4], x6[5]});
   }
-  doc["grains"] = {{"id", id}, {"position", position}, {"radius", radius}, {"backbone", backbone}};
+  doc["grains"] = {{"id", id},
+                   {"position", position},
+                   {"radius", radius},
+                   {"backbone", backbone},
+                   {"divalent", divalent}};
+  if (!rolling.empty())
+    doc["divalent"] = {{"grain", div_grain},
+                       {"neighbours", neighbours},
+                       {"contact_points", points},
+                       {"rolling", {{"displacement", rolling_u}, {"rotation", rolling_theta}}}};
   nlohmann::json modes;
   modes["eigenvalue_over_mean_kn"] = m.eigenvalues;
   for (std::size_t k = 0; k < m.values.size(); ++k) {
@@ -78,7 +113,8 @@ void write_stiffness_modes(const PackingView<dim>& v, StiffnessSystem<dim>& s,
     try {
       write_json_as_hdf5(path, modes_document(v, s, m, grains));
       write_modes_xdmf(xdmf_path_for(path), path.filename().string(), dim,
-                       std::int64_t(grains.size()), int(m.values.size()), s.layout.rotations);
+                       std::int64_t(grains.size()), int(m.values.size()), s.layout.rotations,
+                       !s.divalent.empty());
     } catch (const std::exception& e) {
       error = e.what();
     }

@@ -175,7 +175,8 @@ void write_particles_xdmf(const std::filesystem::path& xdmf_path, const XdmfPart
 }
 
 void write_modes_xdmf(const std::filesystem::path& xdmf_path, const std::string& h5_name,
-                      int dimension, std::int64_t n_grains, int modes, bool rotations) {
+                      int dimension, std::int64_t n_grains, int modes, bool rotations,
+                      bool divalent_rolling) {
   const std::string file = xml_escape(h5_name), n = std::to_string(n_grains);
   const std::string nd = n + " " + std::to_string(dimension);
   // The file holds numbers as f64 only (io/json_hdf5.h): ids too.
@@ -194,13 +195,18 @@ void write_modes_xdmf(const std::filesystem::path& xdmf_path, const std::string&
                      ":/grains/position</DataItem>\n      </Geometry>\n" +
                      attribute("radius", "Scalar", n, "/grains/radius") +
                      attribute("id", "Scalar", n, "/grains/id") +
-                     attribute("backbone", "Scalar", n, "/grains/backbone");
+                     attribute("backbone", "Scalar", n, "/grains/backbone") +
+                     attribute("divalent", "Scalar", n, "/grains/divalent");
   for (int k = 0; k < modes; ++k) {
     const std::string at = "/modes/" + std::to_string(k) + "/", name = "mode_" + std::to_string(k);
     grid += attribute(name, "Vector", nd, at + "displacement");
     if (rotations)
       grid += dimension == 2 ? attribute(name + "_rotation", "Scalar", n, at + "rotation")
                              : attribute(name + "_rotation", "Vector", n + " 3", at + "rotation");
+  }
+  if (divalent_rolling && dimension == 3) {
+    grid += attribute("divalent_rolling", "Vector", nd, "/divalent/rolling/displacement");
+    grid += attribute("divalent_rolling_rotation", "Vector", nd, "/divalent/rolling/rotation");
   }
   write_text_atomically(xdmf_path,
                         xdmf_header("stiffness modes (" + std::to_string(modes) + ")", h5_name) +

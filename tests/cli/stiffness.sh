@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # End to end: `granpack stiffness` on 2 ranks on the Hertz FCC crystal (run here from the CI
 # deck): exit 0, the table, every required JSON key with the crystal's values (only the 3
-# trivial mechanisms, H from eq. 19, positive definite); bad arguments and files exit 2; the
+# trivial mechanisms, H from eq. 19, positive definite); the --modes files of the crystal (3D
+# and 2D) and of tests/data/D_n500_divalent.h5 (its divalent grains' free rolling as fields);
+# bad arguments and files exit 2; the
 # same crystal with cohesion (3D, friction, no rolling resistance) is analysed as an
 # interaction network: rigid, 3 rows per contact, H by [GRC] eq. (19), a cubic tensor.
 set -u
@@ -57,8 +59,53 @@ a = np.linalg.norm(modes[k][0], axis=1)
 on = ids == j["pinned_grain"]
 assert abs(a[on][0] - 1) < 1e-9 and a[~on].max() < 1e-9 and np.abs(modes[k][1]).max() < 1e-9, (a[on], a[~on].max())
 assert ev[0] < ev[k] and np.linalg.norm(modes[0][0], axis=1).max() < 0.5  # the softest is spread
+assert m["divalent_grains"] is None and not m["divalent"].any()  # no divalent grain in FCC
 x = open(sys.argv[3]).read()
 assert x.count('AttributeType="Vector"') == 8 and "modes.h5:/modes/3/displacement" in x, x
+PY
+# The divalent grains' free rollings in the modes file (docs/stiffness.md, "Modes as fields"):
+# tests/data/D_n500_divalent.h5 (3D, friction) on 2 ranks. Each divalent grain of the JSON
+# rolls, alone, about the line through its two contact points: unit (u, theta ell), both
+# contact points at rest (u + theta x p = 0), each on the line to its neighbour's nearest image
+# within the grain; every other grain at rest; the sidecar carries the two vector arrays.
+check_exit "D_n500: stiffness --modes 2 (divalent rolling)" 0 "$scratch/sd.txt" granpack_on 2 stiffness \
+  "$GRANPACK_SOURCE_DIR/tests/data/D_n500_divalent.h5" --json "$scratch/sd.json" --modes 2 \
+  --modes-file "$scratch/modesd.h5"
+check_python "modes file: the divalent grains' rolling, both contact points at rest" "$scratch/pyd.txt" \
+  "$scratch/sd.json" "$scratch/modesd.h5" "$GRANPACK_SOURCE_DIR/tests/data/D_n500_divalent.h5" \
+  "$scratch/modesd.xdmf" <<'PY'
+import os, sys
+import numpy as np
+sys.path.insert(0, os.environ["GRANPACK_SOURCE_DIR"] + "/jobs/tools")
+import granpack_io as gio
+j, m, p = gio.read_stiffness(sys.argv[1]), gio.read_modes(sys.argv[2]), gio.read_packing(sys.argv[3])
+d, ell = m["divalent_grains"], m["rotation_length"]
+assert d is not None and len(d["grain"]) == j["divalent_mechanisms"] >= 1, (d, j["divalent_mechanisms"])
+assert d["grain"].tolist() == j["divalent_ids"].tolist(), (d["grain"], j["divalent_ids"])
+assert d["neighbours"].tolist() == [e["neighbours"] for e in j["divalent_grains"]], d["neighbours"]
+assert np.array_equal(m["divalent"], np.isin(m["id"], d["grain"]))
+U, T = d["displacement"], d["rotation"]
+assert U.shape == T.shape == (len(m["id"]), 3)
+assert not U[~m["divalent"]].any() and not T[~m["divalent"]].any()
+assert np.allclose(m["cell_length"], p.cell_length, rtol=1e-15), (m["cell_length"], p.cell_length)
+s = p.grains["scaled_position"].astype(float)
+for k, g in enumerate(d["grain"]):
+    r, c = int(np.flatnonzero(m["id"] == g)[0]), p.row_of([g])[0]
+    u, th = U[r], T[r]
+    assert abs(np.linalg.norm(np.concatenate([u, ell * th])) - 1) < 1e-12, (g, u, th)
+    assert np.linalg.norm(u) > 0.1 and np.linalg.norm(th) > 0, (g, u, th)
+    for q, pt in zip(d["neighbours"][k], d["contact_points"][k]):
+        nb = p.row_of([q])[0]
+        b = (s[nb] - s[c] - np.round(s[nb] - s[c])) * p.cell_length
+        n, R = b / np.linalg.norm(b), p.radius[c]
+        assert np.linalg.norm(np.cross(pt, n)) < 1e-9 * R and pt @ n > 0, (g, q, pt, n)
+        assert R - (R + p.radius[nb] - np.linalg.norm(b)) <= np.linalg.norm(pt) <= R, (g, q, pt)
+        assert np.linalg.norm(u + np.cross(th, pt)) < 1e-12 * np.linalg.norm(u), (g, q)  # at rest
+x = open(sys.argv[4]).read()
+for a in ("divalent_rolling", "divalent_rolling_rotation"):
+    assert f'Name="{a}" AttributeType="Vector"' in x, a
+assert 'Name="divalent" AttributeType="Scalar"' in x
+print(len(d["grain"]), "divalent grains: rolling with both contact points at rest")
 PY
 check_exit "--modes without --modes-file" 2 "$scratch/bm.txt" "$GRANPACK_EXE" stiffness "$scratch/fcc/final.h5" --modes 2
 
@@ -89,6 +136,7 @@ for k in range(3):  # the pinned grain's rows are <k_n> 1: it moves in the eigen
     assert (abs(a - 1) < 1e-9) if abs(ev[k] - 1) < 1e-9 else (a < 1e-9), (k, ev[k], a)
 x = open(sys.argv[3]).read()
 assert 'GeometryType="XY"' in x and x.count('AttributeType="Vector"') == 3, x
+assert m["divalent_grains"] is None and not m["divalent"].any() and len(m["cell_length"]) == 2
 assert x.count('Name="mode_0_rotation" AttributeType="Scalar"') == 1, x
 PY
 check_refused "missing file" 2 "does_not_exist.h5" "$scratch/m.txt" "$GRANPACK_EXE" stiffness "$scratch/does_not_exist.h5"

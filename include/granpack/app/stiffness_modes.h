@@ -3,7 +3,9 @@
 // K(1) (the eigenpairs whose eigenvalues `--eigenvalues` reports: what is left once the
 // trivial, divalent and pivoting mechanisms are removed, so an unexpected mechanism comes
 // first) as per-grain displacement and rotation fields, with an XDMF sidecar for ParaView's
-// Warp By Vector (docs/stiffness.md). Collective on v.world.
+// Warp By Vector (docs/stiffness.md); and the divalent grains' free rollings, which the modes
+// leave out, as one more field (each grain's `divalent_rolling_mode`, the others at rest), with
+// the grains, their partners and contact points, and the cell's lengths. Collective on v.world.
 #include <filesystem>
 
 #include "granpack/packing/packing_view.h"

@@ -49,10 +49,13 @@ void write_particles_xdmf(const std::filesystem::path& xdmf_path, const XdmfPart
 
 /// Not collective (call on one rank). Writes the sidecar of a `granpack stiffness --modes`
 /// file (docs/stiffness.md): one grid "grains" (geometry /grains/position; radius, id,
-/// backbone) with, per mode k < `modes`, the node attributes mode_k (vector
+/// backbone, divalent) with, per mode k < `modes`, the node attributes mode_k (vector
 /// /modes/k/displacement) and, with `rotations`, mode_k_rotation (/modes/k/rotation: a vector
-/// in 3D, a scalar in 2D), for ParaView's Warp By Vector.
+/// in 3D, a scalar in 2D), for ParaView's Warp By Vector; with `divalent_rolling` (3D) the
+/// divalent grains' free rollings divalent_rolling and divalent_rolling_rotation (vectors,
+/// /divalent/rolling/displacement and rotation).
 void write_modes_xdmf(const std::filesystem::path& xdmf_path, const std::string& h5_name,
-                      int dimension, std::int64_t n_grains, int modes, bool rotations);
+                      int dimension, std::int64_t n_grains, int modes, bool rotations,
+                      bool divalent_rolling = false);
 
 } // namespace granpack
