@@ -68,45 +68,48 @@ KrylovModuli<dim> krylov_moduli(const PackingView<dim>& v, const StiffnessSystem
   const bool k1_spd = !s.has_gram();
   const BorderedMatrix<dim>& mech = s.has_gram() ? s.gram : s.k1;
   // K(1)'s grain block is symmetric: its adjoint solves are forward ones, needed only if the
-  // border is not (it is, by construction; checked). K = K(1) + K(2) has a symmetric grain
-  // block without friction (central forces) and, for the packings analysed, a positive
-  // definite one ([AR] App. B): CG with its own multigrid, and CG solves with the border rows
-  // as right-hand sides if they are not the columns. With friction (or distant pairs) K is not
-  // symmetric: GMRES preconditioned by K(1)'s multigrid (K(2) is a perturbation of relative size
-  // h/a), and transposed solves for the adjoint.
+  // border is not (it is, by construction; checked). K = K(1) + K(2) is solved with K(1)'s
+  // multigrid, positive definite by construction. Without friction (central forces) K's grain
+  // block is symmetric but K(2) < 0 may make it indefinite: MINRES, and forward solves with the
+  // border rows as right-hand sides if they are not the columns. (CG with a multigrid built on K
+  // itself broke down on A replicated 2x2x2, |r|/|b| = 3e-3 after 515 iterations, and GMRES
+  // with that multigrid had not finished one solve in 25 min: docs/stiffness.md.) With
+  // friction (or distant pairs) K is not symmetric: GMRES (K(2) is a perturbation of relative
+  // size h/a), and transposed solves for the adjoint.
   const bool k_uu_symmetric = !s.layout.rotations && !s.has_gram();
-  {
-    IterativeSolver k1 = iterative_solver(s.k1.uu, mech.uu, modes, k1_spd, rtol, max_iterations);
-    k1.label = "K(1)";
-    out.k1 = condense_approximately<dim>(s.k1, forward(k1),
-                                         symmetric_border(s.k1) ? GrainSolve() : forward(k1),
-                                         s.layout, volume, VoigtVec<dim>::Zero());
-    out.report["K1"] = solver_json(k1);
-    out.converged = out.converged && k1.converged;
-    if (!k_uu_symmetric) {
-      IterativeSolver k = iterative_solver_sharing(s.k.uu, k1, false, rtol, max_iterations);
-      k.label = "K(1)+K(2)";
-      out.k = condense_approximately<dim>(s.k, forward(k), adjoint(k), s.layout, volume, stress);
-      out.report["K"] = solver_json(k);
-      out.converged = out.converged && k.converged;
-    }
-  } // K(1)'s multigrid is freed before K's is built
-  if (k_uu_symmetric) {
-    IterativeSolver k = iterative_solver(s.k.uu, s.k.uu, modes, true, rtol, max_iterations);
+  IterativeSolver k1 =
+      iterative_solver(s.k1.uu, mech.uu, modes, k1_spd ? KrylovMethod::kCg : KrylovMethod::kGmres,
+                       rtol, max_iterations);
+  k1.label = "K(1)";
+  out.k1 = condense_approximately<dim>(s.k1, forward(k1),
+                                       symmetric_border(s.k1) ? GrainSolve() : forward(k1),
+                                       s.layout, volume, VoigtVec<dim>::Zero());
+  out.report["K1"] = solver_json(k1);
+  out.converged = out.converged && k1.converged;
+  if (!k_uu_symmetric) {
+    IterativeSolver k =
+        iterative_solver_sharing(s.k.uu, k1, KrylovMethod::kGmres, rtol, max_iterations);
     k.label = "K(1)+K(2)";
+    out.k = condense_approximately<dim>(s.k, forward(k), adjoint(k), s.layout, volume, stress);
+    out.report["K"] = solver_json(k);
+    out.converged = out.converged && k.converged;
+  } else {
     const bool border = symmetric_border(s.k);
+    IterativeSolver k =
+        iterative_solver_sharing(s.k.uu, k1, KrylovMethod::kMinres, rtol, max_iterations);
+    k.label = "K(1)+K(2)";
     out.k = condense_approximately<dim>(s.k, forward(k), border ? GrainSolve() : forward(k),
                                         s.layout, volume, stress);
     out.report["K"] = solver_json(k);
     if (!k.converged) {
-      // CG needs K and the multigrid built on it to be positive definite; K(2) < 0 can make
-      // either indefinite (met on A replicated 2x2x2: CG stopped at |r|/|b| = 3e-3). GMRES
-      // with the same multigrid needs neither.
-      IterativeSolver g = iterative_solver_sharing(s.k.uu, k, false, rtol, max_iterations);
-      g.label = "K(1)+K(2) (GMRES after CG)";
+      // MINRES needs only the preconditioner to be positive definite; should it still stop
+      // short (a preconditioner too poor for the iteration limit), GMRES with the same one.
+      IterativeSolver g =
+          iterative_solver_sharing(s.k.uu, k1, KrylovMethod::kGmres, rtol, max_iterations);
+      g.label = "K(1)+K(2) (GMRES after MINRES)";
       out.k = condense_approximately<dim>(s.k, forward(g), border ? GrainSolve() : forward(g),
                                           s.layout, volume, stress);
-      out.report["K_cg"] = out.report["K"];
+      out.report["K_minres"] = out.report["K"];
       out.report["K"] = solver_json(g);
       k.converged = g.converged;
     }

@@ -2,14 +2,15 @@
 # ctest: RANKS 1 2   (one ctest entry per rank count: GRANPACK_TEST_RANKS)
 # The Krylov path of `granpack stiffness` against the direct one (docs/stiffness.md, "Moduli
 # of large packings"), on the committed [AR] packings A (frictionless: CG with multigrid on
-# K(1) and on K, whose softest modes are ~5e-6 <k_n>) and D (mu = 0.3: CG on K(1), GMRES on
-# the non-symmetric K with K(1)'s multigrid and adjoint solves, 105 divalent grains
-# stiffened), n = 4000, on 1 or 2 ranks:
+# K(1), MINRES on K, whose softest modes are ~5e-6 <k_n>, with K(1)'s multigrid) and D
+# (mu = 0.3: CG on K(1), GMRES on the non-symmetric K with K(1)'s multigrid and adjoint
+# solves, 105 divalent grains stiffened), n = 4000, on 1 or 2 ranks:
 # - the elastic tensor c_IJ, its K(1)-only counterpart and the affine part agree with the
 #   direct path's to 1e-6 of max |c| (the issue's bar; measured ~1e-10 and below);
 # - the JSON says which path ran and why, each solve's iterations and true residual (below
 #   the requested rtol), and lists the quantities the Krylov path does not compute, which are
-#   null (mechanism count, H, pivots, eigenvalues); the table says the same;
+#   null (mechanism count, H, pivots, eigenvalues); the table says the same; K's method is
+#   MINRES (A) or GMRES (D) with K(1)'s multigrid, without a fallback;
 # - `--solver auto` picks direct for these sizes and krylov with --krylov-above 0;
 # - `--modes` with the Krylov path is refused (exit 2), as it needs the factors.
 set -u
@@ -61,6 +62,10 @@ for np_ in ranks:
             check(f"{tag}: {matrix} converged, {len(its)} solves", r["converged"] and len(its) >= 6)
             # Recomputed after each solve (which restarts while it is above rtol).
             check(f"{tag}: {matrix} true residuals {max(res):.2g} <= rtol", max(res) <= s["krylov"]["rtol"])
+        want = "minres" if state == "A" else "gmres"
+        kr = s["krylov"]["K"]
+        check(f"{tag}: K by {kr['method']} + {kr['preconditioner']} (want {want} + shared gamg, no fallback)",
+              kr["method"] == want and kr["preconditioner"] == "shared gamg" and "K_minres" not in s["krylov"])
         for key in s["not_computed"]:
             check(f"{tag}: {key} not computed is null", jk[key] is None)
         check(f"{tag}: the mechanism count is among what is not computed",

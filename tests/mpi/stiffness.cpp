@@ -334,17 +334,22 @@ void expect_matches_dense(const std::string& tag, const std::filesystem::path& f
               json["constitutive"]["bulk_modulus"].get<double>(), d.bulk_k1);
 }
 
-/// The Krylov path (CG or GMRES with multigrid, docs/stiffness.md "Moduli of large
+/// The Krylov path (CG, MINRES or GMRES with multigrid, docs/stiffness.md "Moduli of large
 /// packings") on the same packing: the same tensors as the direct path to 1e-6 of max |c|,
 /// the quantities it cannot compute null, the divalent grain still named. Every rank.
 void expect_krylov_matches_direct(const std::string& tag, const std::filesystem::path& file,
-                                  const nlohmann::json& direct) {
+                                  const nlohmann::json& direct, bool frictionless) {
   const auto k = run_stiffness(file, 1e-4, StiffnessSolver::kKrylov);
   EXPECT_EQ(direct["solver"]["path"], "direct") << tag;
   EXPECT_EQ(k["solver"]["path"], "krylov") << tag;
   ASSERT_TRUE(k["moduli_valid"].get<bool>()) << tag << ": " << k["solver"].dump();
   EXPECT_TRUE(k["mechanisms"].is_null() && k["H"].is_null()) << tag;
   EXPECT_EQ(k["divalent_mechanisms"], direct["divalent_mechanisms"]) << tag;
+  // K by K(1)'s multigrid: MINRES without friction (symmetric, maybe indefinite), GMRES with.
+  const auto& kr = k["solver"]["krylov"];
+  EXPECT_EQ(kr["K"]["method"], frictionless ? "minres" : "gmres") << tag;
+  EXPECT_EQ(kr["K"]["preconditioner"], "shared gamg") << tag;
+  EXPECT_FALSE(kr.contains("K_minres")) << tag << ": MINRES fell back to GMRES";
   for (const char* part : {"", "constitutive"}) {
     const auto& a = part[0] ? direct[part]["elastic_tensor"] : direct["elastic_tensor"];
     const auto& b = part[0] ? k[part]["elastic_tensor"] : k["elastic_tensor"];
@@ -371,7 +376,7 @@ void compare_with_dense(const std::string& tag, double mu) {
   if (mu > 0) {
     EXPECT_EQ(j["divalent_mechanisms"], 1); // the case this deck is chosen for
   }
-  expect_krylov_matches_direct(tag, file, j);
+  expect_krylov_matches_direct(tag, file, j, mu == 0);
   // A threshold of 0.3 a^2 P (0.2 without friction) drops the weak contacts: the backbone
   // left is floppy, and the unexpected mechanisms are counted by SLEPc (this tests that path
   // against the SVD too).

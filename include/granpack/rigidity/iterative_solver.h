@@ -1,12 +1,13 @@
 #pragma once
 // A preconditioned Krylov solver for the grain block, for packings whose sparse
 // factorisation does not fit (docs/stiffness.md, "Moduli of large packings"): conjugate
-// gradients for a symmetric block, GMRES (right-preconditioned) otherwise, with an algebraic
-// multigrid (PCGAMG) built on a symmetric positive-definite matrix and told the rigid-body
-// near-null space (rigidity/rigid_body_modes.h). Tolerances are on the true residual
-// |b - A x| / |b|. Solver choices stay run-time options under the prefix "stiffness_krylov_"
-// (e.g. PETSC_OPTIONS="-stiffness_krylov_pc_type hypre"; "stiffness_krylov_shared_" for the
-// solver that borrows another's multigrid). Collective on the matrix's communicator.
+// gradients for a symmetric positive-definite block, MINRES for a symmetric one that may be
+// indefinite, GMRES (right-preconditioned) otherwise, with an algebraic multigrid (PCGAMG)
+// built on a symmetric positive-definite matrix and told the rigid-body near-null space
+// (rigidity/rigid_body_modes.h). Tolerances are on the true residual |b - A x| / |b|. Solver
+// choices stay run-time options under the prefix "stiffness_krylov_" (e.g.
+// PETSC_OPTIONS="-stiffness_krylov_pc_type hypre"; "stiffness_krylov_shared_" for the solver that
+// borrows another's multigrid). Collective on the matrix's communicator.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,9 +16,15 @@
 
 namespace granpack {
 
+/// cg: symmetric positive definite (operator and preconditioner); minres: symmetric operator,
+/// possibly indefinite, symmetric positive-definite preconditioner (left, its own norm: the
+/// stopping test checks |b - A x| / |b| whenever that norm says rtol is reached, and tightens
+/// until it is); gmres: any.
+enum class KrylovMethod { kCg, kMinres, kGmres };
+
 struct IterativeSolver {
   OwnedKsp ksp;
-  std::string method;                   ///< KSP type that ran ("cg", "gmres", ...)
+  std::string method;                   ///< KSP type that ran ("cg", "minres", "gmres")
   std::string preconditioner;           ///< PC type ("gamg", or "shell" for another's AMG)
   std::vector<std::int64_t> iterations; ///< per solve, in order (restarts included)
   /// |b - A x| / |b| per solve, recomputed after it; a solve whose recurrence stopped while
@@ -47,14 +54,15 @@ private:
 
 /// `a` the operator; `amg_matrix` the symmetric positive-definite matrix the multigrid is
 /// built on (`a` itself when it is symmetric positive definite); `near_null` its rigid-body
-/// modes. `symmetric`: CG, else GMRES.
-IterativeSolver iterative_solver(Mat a, Mat amg_matrix, MatNullSpace near_null, bool symmetric,
+/// modes.
+IterativeSolver iterative_solver(Mat a, Mat amg_matrix, MatNullSpace near_null, KrylovMethod method,
                                  double rtol, int max_iterations);
 
 /// A solver for `a` preconditioned by another solver's multigrid (set up once): for K =
-/// K(1) + K(2) with friction, whose non-symmetric part is a perturbation of size h/a.
-/// `other` must outlive the returned solver.
-IterativeSolver iterative_solver_sharing(Mat a, const IterativeSolver& other, bool symmetric,
+/// K(1) + K(2), by K(1)'s multigrid (positive definite by construction): with friction K's
+/// non-symmetric part is a perturbation of size h/a (GMRES); without, K is symmetric but K(2)
+/// may make it indefinite (MINRES). `other` must outlive the returned solver.
+IterativeSolver iterative_solver_sharing(Mat a, const IterativeSolver& other, KrylovMethod method,
                                          double rtol, int max_iterations);
 
 } // namespace granpack
