@@ -245,5 +245,35 @@ for t in "$tools"/*.py; do
   grep -q '__main__' "$t" || continue
   check "$(basename "$t") uses argparse" "grep -q '^import argparse' '$t'"
 done
+# jobs/bench's scripts too, called by run_bench.sh with the same command lines as before.
+bench="$GRANPACK_SOURCE_DIR/jobs/bench"
+check "no hand-parsed argv in jobs/bench: $(grep -n 'sys\.argv' "$bench"/*.py | grep -v 'main(sys\.argv\[1:\])')" \
+  "[ -z \"\$(grep -n 'sys\.argv' '$bench'/*.py | grep -v 'main(sys\.argv\[1:\])')\" ]"
+for t in "$bench"/*.py; do
+  check "$(basename "$t") uses argparse" "grep -q '^import argparse' '$t'"
+done
+b=$scratch/bench
+mkdir -p "$b/1000"
+printf '# pressure 100.0\n0 1.0 0.0 0.0\n1 0.0 2.0 0.0\n' > "$b/granpack_static.txt"
+printf 'ITEM: TIMESTEP\n0\nITEM: ATOMS id fx fy fz\n1 1.0 0.0 0.0\n2 0.0 2.0 0.001\n' > "$b/forces.dump"
+printf 'STATIC_PRESSURE 100.5\n' > "$b/lammps_static.log"
+check_exit "compare_static.py, run_bench.sh's command line" 0 "$b/static_check.txt" /usr/bin/python3 \
+  "$bench/compare_static.py" "$b/granpack_static.txt" "$b/forces.dump" "$b/lammps_static.log"
+check "compare_static.py: n = 2, relative pressure difference 4.975e-03" \
+  "grep -q 'n = 2: P granpack 100 Pa, LAMMPS 100.5 Pa, relative difference 4.975e-03' '$b/static_check.txt'"
+check_refused "compare_static.py with two files" 2 "usage: compare_static.py" "$b/static_bad.txt" \
+  /usr/bin/python3 "$bench/compare_static.py" "$b/granpack_static.txt" "$b/forces.dump"
+for np in 1 2; do
+  printf '{"n": 1000, "particle_steps_per_s_per_rank": %s, "wall": 10.0, "forces": 5.0, "neighbor": 1.0, "comm": 1.0, "integrate": 1.0, "rebuilds": 3, "bytes_per_grain": 500}\n' \
+    $((2000000 / np)) > "$b/1000/granpack_np${np}_1.json"
+  printf 'Loop time of 2.0 on %s procs for 100 steps with 1000 atoms\n' "$np" > "$b/1000/lammps_np${np}_1.log"
+done
+check_exit "summarize.py OUT_DIR SIZE, run_bench.sh's command line" 0 "$b/summary.txt" /usr/bin/python3 \
+  "$bench/summarize.py" "$b" 1000
+check "summarize.py: both rank counts and the efficiency (granpack 50.0%, LAMMPS 50.0%)" \
+  "grep -q 'parallel efficiency 1->2 ranks: granpack 50.0%, LAMMPS 50.0%' '$b/summary.txt'"
+check_refused "summarize.py without a size" 2 "usage: summarize.py" "$b/summary_bad.txt" \
+  /usr/bin/python3 "$bench/summarize.py" "$b"
+
 
 checks_done python_reader
