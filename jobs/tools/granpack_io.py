@@ -321,6 +321,28 @@ class Packing:
         np.add.at(net, self.i, -f)
         return net
 
+    def net_moment(self):
+        """Sum of the static contact moments about each grain's centre, N m: (n, 3) in 3D, (n,)
+        in 2D (about z). Each contact force acts at the middle of the overlap, at (R - h/2) n
+        from the centres (the dynamics' branch vectors), plus [GRC]'s rolling moment -K_r
+        dtheta on `second` (+K_r dtheta on `first`; K_r from law()), as /network/net_moment."""
+        f, n = self.contact_force, self.normal
+        h = self.overlap
+        arm_i = (self.radius[self.i] - 0.5 * h)[:, None] * n      # centre of first -> point
+        arm_j = -(self.radius[self.j] - 0.5 * h)[:, None] * n     # centre of second -> point
+        gamma = -self._param("rolling_stiffness") * self.contacts["rolling"].astype(float)
+        if self.dimension == 2:
+            def cross(b, g):  # about z
+                return b[:, 0] * g[:, 1] - b[:, 1] * g[:, 0]
+            gamma = gamma.reshape(-1)
+            net = np.zeros(self.n)
+        else:
+            cross = np.cross
+            net = np.zeros((self.n, 3))
+        np.add.at(net, self.j, cross(arm_j, f) + gamma)
+        np.add.at(net, self.i, cross(arm_i, -f) - gamma)
+        return net
+
     def stress(self):
         """Static stress sigma = (1/V) sum f (x) r_12 (dim, dim), Pa."""
         return np.einsum("ka,kb->ab", self.contact_force, self.branch) / self.volume

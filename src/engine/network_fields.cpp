@@ -123,6 +123,8 @@ std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
   halo.reverse_values(f.mean_stress, d);
   for (auto& c : f.net_force)
     halo.reverse_values(c, d);
+  for (auto& c : f.net_moment)
+    halo.reverse_values(c, d);
   for (auto& c : f.stress)
     halo.reverse_values(c, d);
   const std::size_t n = p.n_owned();
@@ -130,6 +132,8 @@ std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
   f.carrying_contacts.resize(n);
   f.mean_stress.resize(n);
   for (auto& c : f.net_force)
+    c.resize(n);
+  for (auto& c : f.net_moment)
     c.resize(n);
   for (auto& c : f.stress)
     c.resize(n);

@@ -84,6 +84,8 @@ std::string configuration_grid(const XdmfParticles& p) {
     os << attribute("contacts", "Scalar", "Node", n, "Float", "/network/contacts")
        << attribute("carrying_contacts", "Scalar", "Node", n, "Float", "/network/carrying_contacts")
        << attribute("net_force", "Vector", "Node", nd, "Float", "/network/net_force")
+       << attribute("net_moment", p.dimension == 2 ? "Scalar" : "Vector", "Node", rd, "Float",
+                    "/network/net_moment")
        << attribute("mean_stress", "Scalar", "Node", n, "Float", "/network/mean_stress")
        // 3D: a Tensor of 9 (ParaView's tensor glyphs, eigenvalues); 2D: 4 components, read by
        // ParaView as a plain 4-component array ("Tensor" insists on 9).
