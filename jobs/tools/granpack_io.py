@@ -56,6 +56,19 @@ DERIVED_UNITS = {
     "coordination": "1", "cluster_ids": "1", "net_force": "N", "net_moment": "N m", "stress": "Pa",
     "pressure": "Pa", "phi": "1", "volume": "m^dim",
 }
+# Units of what read_modes gives (its dict's keys; "divalent_grains/..." for that dict's). A
+# mode is a shape: (u, ell theta) has unit norm, so u is per unit amplitude (1) and theta per
+# metre of amplitude (rad/m); eigenvalues are over <k_n>.
+MODES_UNITS = {
+    "eigenvalues": "1 (over mean_kn)", "id": "1", "position": "m", "radius": "m",
+    "backbone": "1", "displacement": "1 (per unit mode amplitude)",
+    "rotation": "rad/m (per unit mode amplitude)", "rotation_length": "m", "mean_kn": "N/m",
+    "dimension": "1", "cell_length": "m", "divalent": "1",
+    "divalent_grains/grain": "1", "divalent_grains/neighbours": "1",
+    "divalent_grains/contact_points": "m",
+    "divalent_grains/displacement": "1 (per unit mode amplitude)",
+    "divalent_grains/rotation": "rad/m (per unit mode amplitude)",
+}
 # Units of the report's stage entries (docs/report.md).
 STAGE_UNITS = {"steps": "1", "time": "s", "phi": "1", "pressure": "Pa", "kappa": "1",
                "inertia_max": "1", "z": "1", "z_star": "1", "x0": "1", "x2": "1", "z2": "1",
@@ -509,7 +522,8 @@ def read_modes(path):
     (m, 2 ids, ascending), 'contact_points' (m, 2, 3: from the grain's centre, m, in the order
     of the neighbours), 'displacement' and 'rotation' (n, 3: every divalent grain's free
     rolling about the line through its two contact points, each of unit norm in (u, theta ell),
-    every other grain at rest); None without."""
+    every other grain at rest); None without; 'units' (key -> unit, a copy of MODES_UNITS:
+    the file itself, JSON stored as HDF5, carries no unit attributes)."""
     with _open_h5(path) as f:
         if _text(f.attrs.get("kind", "")) != "stiffness_modes":
             raise GranpackFileError(f"{path}: not a stiffness modes file (kind != stiffness_modes)")
@@ -536,7 +550,7 @@ def read_modes(path):
             "cell_length": np.asarray(d["cell_length"]) if "cell_length" in d else None,
             "divalent": (np.asarray(g["divalent"]) == 1 if "divalent" in g
                          else np.zeros(n, dtype=bool)),
-            "divalent_grains": divalent}
+            "divalent_grains": divalent, "units": dict(MODES_UNITS)}
 
 
 class Report:

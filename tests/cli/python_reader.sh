@@ -43,6 +43,8 @@ check_exit "2-rank run" 0 "$scratch/run.txt" granpack_on 2 run "$scratch/small.t
   || checks_stop python_reader "$scratch/run.txt"
 check_exit "analyze --json --h5" 0 "$scratch/an.txt" granpack_on 2 analyze "$out/final.h5" \
   --json "$out/analysis.json" --h5 "$out/analysis.h5"
+check_exit "stiffness --modes 2" 0 "$scratch/st.txt" granpack_on 2 stiffness "$out/final.h5" \
+  --json "$out/stiffness.json" --modes 2 --modes-file "$out/modes.h5"
 
 /usr/bin/python3 - "$out" "$GRANPACK_SOURCE_DIR" > "$scratch/py.txt" 2>&1 <<'PY'
 import sys
@@ -216,6 +218,16 @@ s = gio.read_stiffness(sj)
 check("stiffness JSON: mechanisms, modes and rattler ids as arrays",
       isinstance(s["mechanisms"], int) and isinstance(s["modes"], list)
       and s["rattler_ids"].dtype == np.int64 and len(s["rattler_ids"]) == len(s["rattler_grains"]))
+
+# read_modes: every array named with its unit, as Packing.units.
+m = gio.read_modes(f"{out}/modes.h5")
+keys = [k for k, v in m.items() if k != "units" and v is not None and not isinstance(v, dict)]
+keys += [f"divalent_grains/{k}" for k in (m["divalent_grains"] or {})]
+missing = [k for k in keys if k not in m["units"]]
+check(f"read_modes: a unit for each of its {len(keys)} arrays (missing: {missing})",
+      not missing and m["units"]["position"] == "m" and m["units"]["mean_kn"] == "N/m"
+      and m["units"]["rotation_length"] == "m" and m["units"]["rotation"].startswith("rad/m")
+      and m["displacement"].shape == (2, 120, 3) and m["units"] is not gio.MODES_UNITS)
 
 gio.write_packing(f"{out}/copy.h5", 3, p.cell_length, p.grains, p.contacts,
                   attrs={"time": p.time, "step": p.step, "stage_index": 1}, deck=p.deck)
