@@ -206,6 +206,8 @@ void run_stages(MPI_Comm world, const Deck& deck, Log& log, const std::filesyste
     barrier(world);
     // The runner of the stage's kind (stages/stages.h; the registry: io/stage_params.h).
     StageReport r = std::visit([&](const auto& p) { return run_stage(ctx, p); }, st.params);
+    // Before the checkpoint between stages: a restart from it keeps this snapshot.
+    stage_end_snapshot(ctx);
     const StageTiming timing = stage_timing_over_ranks(world, ctx.stage_timers);
     r.phase_seconds = timing.phases;
     r.md_classes = timing.classes;
