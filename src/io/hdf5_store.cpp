@@ -738,9 +738,9 @@ template <int dim> void validate_for_write(const Configuration<dim>& c, const Fi
       if (v->size() != c.contacts.size())
         ctx.fail("a per-contact /network array has " + std::to_string(v->size()) + " rows for " +
                  std::to_string(c.contacts.size()) + " contacts");
-    std::vector<const std::vector<double>*> per_grain = {&f.contacts,    &f.carrying_contacts,
-                                                         &f.mean_stress, &f.rattler,
-                                                         &f.bond_order,  &f.crystalline};
+    std::vector<const std::vector<double>*> per_grain = {
+        &f.contacts,   &f.carrying_contacts, &f.mean_stress,  &f.rattler,
+        &f.bond_order, &f.crystalline,       &f.fixed_rattler};
     if (f.cluster_id.size() != n)
       ctx.fail("/network/cluster_id has " + std::to_string(f.cluster_id.size()) + " rows for " +
                std::to_string(n) + " owned particles");
@@ -843,6 +843,7 @@ void write_network(const FileContext& ctx, hid_t file, hid_t dxpl, const Network
   rows("carrying_contacts", f.carrying_contacts, ps, 0, "1");
   rows("mean_stress", f.mean_stress, ps, 0, "Pa");
   rows("rattler", f.rattler, ps, 0, "1");
+  rows("fixed_rattler", f.fixed_rattler, ps, 0, "1");
   rows("cluster_id", f.cluster_id, ps, 0, "1");
   rows("bond_order", f.bond_order, ps, 0, "1");
   rows("crystalline", f.crystalline, ps, 0, "1");

@@ -92,6 +92,7 @@ std::string configuration_grid(const XdmfParticles& p) {
        << attribute("stress", p.dimension == 2 ? "Matrix" : "Tensor", "Node",
                     n + (p.dimension == 2 ? " 4" : " 9"), "Float", "/network/stress")
        << attribute("rattler", "Scalar", "Node", n, "Float", "/network/rattler")
+       << attribute("fixed_rattler", "Scalar", "Node", n, "Float", "/network/fixed_rattler")
        << attribute("cluster_id", "Scalar", "Node", n, "Int", "/network/cluster_id")
        << attribute("bond_order", "Scalar", "Node", n, "Float", "/network/bond_order")
        << attribute("crystalline", "Scalar", "Node", n, "Float", "/network/crystalline");

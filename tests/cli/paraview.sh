@@ -61,7 +61,7 @@ check(f"particles: {g.get('points')} points, {g.get('cells')} cells = n = {p.n}"
       g.get("points") == p.n and g.get("cells") == p.n)
 # ParaView pads 2-component vectors to 3.
 want = {"radius": 1, "id": 1, "velocity": 3, "angular_velocity": 1, "contacts": 1,
-        "carrying_contacts": 1, "net_force": 3, "net_moment": 1, "mean_stress": 1, "rattler": 1,
+        "carrying_contacts": 1, "net_force": 3, "net_moment": 1, "mean_stress": 1, "rattler": 1, "fixed_rattler": 1,
         "stress": 4,  # 2D: the 2 x 2 stress tensor as 4 components
         "cluster_id": 1, "bond_order": 1, "crystalline": 1}
 got = {k: v["components"] for k, v in g.get("point_arrays", {}).items()}

@@ -642,6 +642,7 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     f.carrying_contacts.push_back(0.5 * double(c.particles.id[i]));
     f.mean_stress.push_back(-double(c.particles.id[i]));
     f.rattler.push_back(double(c.particles.id[i] % 2));
+    f.fixed_rattler.push_back(double(c.particles.id[i] % 5 == 1));
     f.cluster_id.push_back(c.particles.id[i] / 10);
     f.bond_order.push_back(1e-3 * double(c.particles.id[i]));
     f.crystalline.push_back(double(c.particles.id[i] % 3 == 0));
@@ -664,6 +665,8 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     ASSERT_EQ(nmdims, (std::vector<hsize_t>{123, rd}));
     const auto [cdims, count] = read_whole(path, "/network/contacts");
     const auto [rdims, rattler] = read_whole(path, "/network/rattler");
+    const auto [fdims, fixed] = read_whole(path, "/network/fixed_rattler");
+    ASSERT_EQ(fdims, (std::vector<hsize_t>{123}));
     const auto [sdims, stress] = read_whole(path, "/network/stress");
     const auto [kdims, cluster] = read_whole(path, "/network/cluster_id");
     const auto [odims, order] = read_whole(path, "/network/bond_order");
@@ -685,6 +688,7 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     for (std::size_t i = 0; i < 123; ++i) {
       EXPECT_EQ(count[i], ids[i]); // per-grain rows follow /particles
       EXPECT_EQ(rattler[i], double(std::int64_t(ids[i]) % 2));
+      EXPECT_EQ(fixed[i], double(std::int64_t(ids[i]) % 5 == 1));
       EXPECT_EQ(cluster[i], double(std::int64_t(ids[i]) / 10));
       EXPECT_EQ(order[i], 1e-3 * ids[i]);
       EXPECT_EQ(net[i * dim + 1], ids[i] + 1);
@@ -701,6 +705,7 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
               std::string::npos)
         << x;
     EXPECT_NE(x.find(">net.h5:/network/rattler<"), std::string::npos) << x;
+    EXPECT_NE(x.find(">net.h5:/network/fixed_rattler<"), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/strong<"), std::string::npos) << x;
     EXPECT_NE(x.find("Name=\"cluster_id\" AttributeType=\"Scalar\""), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/crystalline<"), std::string::npos) << x;

@@ -72,6 +72,10 @@ template <int dim> struct NetworkFields {
   /// Per owned grain: 1 for a rattler of the iterated rule, else 0. Not filled by
   /// contact_network (the rule runs across ranks: engine/network_fields.h).
   std::vector<double> rattler;
+  /// Per owned grain: 1 for a rattler that the last fix_rattlers stage of the run pushed onto
+  /// the backbone (treatment II of [AR] sec. III C: RunContext::fixed_rattlers), else 0. Not
+  /// filled by contact_network.
+  std::vector<double> fixed_rattler;
   /// Per owned grain: its cluster, the smallest id among the grains joined to it by the stored
   /// contacts (distant cohesive pairs included, as the aggregation of [GRC] counts clusters:
   /// comm/clusters.h); a grain without contacts is its own cluster. Not filled by
