@@ -56,6 +56,19 @@ DERIVED_UNITS = {
     "coordination": "1", "cluster_ids": "1", "net_force": "N", "net_moment": "N m", "stress": "Pa",
     "pressure": "Pa", "phi": "1", "volume": "m^dim",
 }
+# Units of what read_modes gives (its dict's keys; "divalent_grains/..." for that dict's). A
+# mode is a shape: (u, ell theta) has unit norm, so u is per unit amplitude (1) and theta per
+# metre of amplitude (rad/m); eigenvalues are over <k_n>.
+MODES_UNITS = {
+    "eigenvalues": "1 (over mean_kn)", "id": "1", "position": "m", "radius": "m",
+    "backbone": "1", "displacement": "1 (per unit mode amplitude)",
+    "rotation": "rad/m (per unit mode amplitude)", "rotation_length": "m", "mean_kn": "N/m",
+    "dimension": "1", "cell_length": "m", "divalent": "1",
+    "divalent_grains/grain": "1", "divalent_grains/neighbours": "1",
+    "divalent_grains/contact_points": "m",
+    "divalent_grains/displacement": "1 (per unit mode amplitude)",
+    "divalent_grains/rotation": "rad/m (per unit mode amplitude)",
+}
 # Units of the report's stage entries (docs/report.md).
 STAGE_UNITS = {"steps": "1", "time": "s", "phi": "1", "pressure": "Pa", "kappa": "1",
                "inertia_max": "1", "z": "1", "z_star": "1", "x0": "1", "x2": "1", "z2": "1",
@@ -321,6 +334,28 @@ class Packing:
         np.add.at(net, self.i, -f)
         return net
 
+    def net_moment(self):
+        """Sum of the static contact moments about each grain's centre, N m: (n, 3) in 3D, (n,)
+        in 2D (about z). Each contact force acts at the middle of the overlap, at (R - h/2) n
+        from the centres (the dynamics' branch vectors), plus [GRC]'s rolling moment -K_r
+        dtheta on `second` (+K_r dtheta on `first`; K_r from law()), as /network/net_moment."""
+        f, n = self.contact_force, self.normal
+        h = self.overlap
+        arm_i = (self.radius[self.i] - 0.5 * h)[:, None] * n      # centre of first -> point
+        arm_j = -(self.radius[self.j] - 0.5 * h)[:, None] * n     # centre of second -> point
+        gamma = -self._param("rolling_stiffness") * self.contacts["rolling"].astype(float)
+        if self.dimension == 2:
+            def cross(b, g):  # about z
+                return b[:, 0] * g[:, 1] - b[:, 1] * g[:, 0]
+            gamma = gamma.reshape(-1)
+            net = np.zeros(self.n)
+        else:
+            cross = np.cross
+            net = np.zeros((self.n, 3))
+        np.add.at(net, self.j, cross(arm_j, f) + gamma)
+        np.add.at(net, self.i, cross(arm_i, -f) - gamma)
+        return net
+
     def stress(self):
         """Static stress sigma = (1/V) sum f (x) r_12 (dim, dim), Pa."""
         return np.einsum("ka,kb->ab", self.contact_force, self.branch) / self.volume
@@ -487,7 +522,8 @@ def read_modes(path):
     (m, 2 ids, ascending), 'contact_points' (m, 2, 3: from the grain's centre, m, in the order
     of the neighbours), 'displacement' and 'rotation' (n, 3: every divalent grain's free
     rolling about the line through its two contact points, each of unit norm in (u, theta ell),
-    every other grain at rest); None without."""
+    every other grain at rest); None without; 'units' (key -> unit, a copy of MODES_UNITS:
+    the file itself, JSON stored as HDF5, carries no unit attributes)."""
     with _open_h5(path) as f:
         if _text(f.attrs.get("kind", "")) != "stiffness_modes":
             raise GranpackFileError(f"{path}: not a stiffness modes file (kind != stiffness_modes)")
@@ -514,7 +550,7 @@ def read_modes(path):
             "cell_length": np.asarray(d["cell_length"]) if "cell_length" in d else None,
             "divalent": (np.asarray(g["divalent"]) == 1 if "divalent" in g
                          else np.zeros(n, dtype=bool)),
-            "divalent_grains": divalent}
+            "divalent_grains": divalent, "units": dict(MODES_UNITS)}
 
 
 class Report:

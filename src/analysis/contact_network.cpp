@@ -4,6 +4,8 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "granpack/contact/pair_geometry.h"
+
 namespace granpack {
 
 template <int dim>
@@ -22,8 +24,11 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
   f.mean_stress.assign(n, 0.0);
   for (auto& c : f.net_force)
     c.assign(n, 0.0);
+  for (auto& c : f.net_moment)
+    c.assign(n, 0.0);
   for (auto& c : f.stress)
     c.assign(n, 0.0);
+  const double k_r = law.rolling ? law.rolling->k_r : 0.0;
   // Local index of each id: the owned copy first (emplace keeps it), else any ghost image.
   std::unordered_map<GlobalId, std::size_t> index;
   index.reserve(n);
@@ -67,6 +72,17 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
     for (int c = 0; c < dim; ++c) {
       f.net_force[c][j] += on_second[c];
       f.net_force[c][i] -= on_second[c];
+    }
+    // Moments about the centres, the force applied at the middle of the overlap (for a
+    // distant pair f is along n and its moments vanish whatever the arm), as the engine's
+    // elastic_forces(): contact_forces.cpp.
+    const RotVec<dim> gamma = -k_r * s.rolling; // rolling moment on `second`
+    const RotVec<dim> m_j = moment<dim>(Vec<dim>(-contact_arm(p.radius[j], h) * normal), on_second);
+    const RotVec<dim> m_i =
+        moment<dim>(Vec<dim>(contact_arm(p.radius[i], h) * normal), Vec<dim>(-on_second));
+    for (int c = 0; c < rot_dim<dim>; ++c) {
+      f.net_moment[std::size_t(c)][j] += m_j[c] + gamma[c];
+      f.net_moment[std::size_t(c)][i] += m_i[c] - gamma[c];
     }
     const double half_virial = 0.5 * on_second.dot(r); // each grain's share of f.r_12
     f.mean_stress[i] += half_virial / (dim * grain_volume<dim>(p.radius[i]));

@@ -164,6 +164,7 @@ void restore(RunContext<dim>& ctx, const std::filesystem::path& file, const RunS
     std::copy(state.cuts.begin(), state.cuts.end(), cuts.begin());
   adopt_configuration<dim>(ctx, std::move(c), chosen, with_cuts ? &cuts : nullptr);
   ctx.resume.assign(state.frames.begin(), state.frames.end());
+  ctx.fixed_rattlers = state.fixed_rattlers;
   ctx.resume_mid_step = state.mid_stage;
 }
 
@@ -201,11 +202,17 @@ void run_stages(MPI_Comm world, const Deck& deck, Log& log, const std::filesyste
     auto t0 = std::chrono::steady_clock::now();
     ctx.stage_timers = {};
     ctx.stage_rebalances = 0;
+    // The rattlers fix_rattlers placed stay flagged until a stage moves the grains again (a
+    // restart inside fix_rattlers finds the list empty: it is set at the stage's end).
+    if (st.kind != "set" && st.kind != "write")
+      ctx.fixed_rattlers.clear();
     // No rank starts a timed part before rank 0 started the stage's clock, and every part ends
     // before the all-reduce of the timers: the parts (means over the ranks) fit in wall_seconds.
     barrier(world);
     // The runner of the stage's kind (stages/stages.h; the registry: io/stage_params.h).
     StageReport r = std::visit([&](const auto& p) { return run_stage(ctx, p); }, st.params);
+    // Before the checkpoint between stages: a restart from it keeps this snapshot.
+    stage_end_snapshot(ctx);
     const StageTiming timing = stage_timing_over_ranks(world, ctx.stage_timers);
     r.phase_seconds = timing.phases;
     r.md_classes = timing.classes;

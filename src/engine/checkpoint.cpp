@@ -111,6 +111,8 @@ template <int dim> void Checkpointer::write(RunContext<dim>& ctx, bool mid_stage
   const double wall = broadcast_value(
       world_, earlier_wall_seconds + std::chrono::duration<double>(t0 - start_).count());
   st["wall_seconds"] = wall;
+  if (!ctx.fixed_rattlers.empty())
+    st["fixed_rattlers"] = ctx.fixed_rattlers;
   write_state(ctx, policy_.file, st.dump());
   last_ = std::chrono::steady_clock::now();
   ++written_;
@@ -168,6 +170,8 @@ RunState parse_run_state(const std::string& text, const std::string& file) {
     for (const auto& f : j.at("frames"))
       s.frames.push_back(f);
     s.wall_seconds = j.at("wall_seconds").get<double>();
+    if (j.contains("fixed_rattlers"))
+      s.fixed_rattlers = j.at("fixed_rattlers").get<std::vector<std::int64_t>>();
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {

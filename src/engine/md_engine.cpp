@@ -248,10 +248,11 @@ template <int dim> void MdEngine<dim>::finish_step() {
     if (settings_.stress_control)
       settings_.cell.kick(sys.cell, obs_.stress.diagonal(), 0.5 * dt);
   }
+  const double time_before = sys.time;
   sys.time += dt;
   ++sys.step;
   tally_step();
-  if (trajectory_due(ctx_))
+  if (trajectory_due(ctx_, time_before))
     write_snapshot(ctx_);
   fault_point(FaultPoint::kStep, sys.step);
   if (fault_point(FaultPoint::kHold, sys.step))

@@ -113,6 +113,10 @@ std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
   if (global_sum(ctx.world, f.missing) > 0)
     return std::nullopt;
   rattler_flags(ctx, p, halo, f);
+  f.fixed_rattler.assign(p.n_owned(), 0.0);
+  for (std::size_t i = 0; i < p.n_owned(); ++i)
+    if (std::binary_search(ctx.fixed_rattlers.begin(), ctx.fixed_rattlers.end(), p.id[i]))
+      f.fixed_rattler[i] = 1.0;
   strong_flags(ctx, f);
   f.cluster_id.clear();
   for (double id : cluster_ids(p, halo, d, f.pairs))
@@ -123,6 +127,8 @@ std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
   halo.reverse_values(f.mean_stress, d);
   for (auto& c : f.net_force)
     halo.reverse_values(c, d);
+  for (auto& c : f.net_moment)
+    halo.reverse_values(c, d);
   for (auto& c : f.stress)
     halo.reverse_values(c, d);
   const std::size_t n = p.n_owned();
@@ -130,6 +136,8 @@ std::optional<NetworkFields<dim>> network_fields(const RunContext<dim>& ctx,
   f.carrying_contacts.resize(n);
   f.mean_stress.resize(n);
   for (auto& c : f.net_force)
+    c.resize(n);
+  for (auto& c : f.net_moment)
     c.resize(n);
   for (auto& c : f.stress)
     c.resize(n);

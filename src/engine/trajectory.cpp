@@ -27,7 +27,7 @@ template <int dim> void write_sidecar(RunContext<dim>& ctx) {
 } // namespace
 
 template <int dim> void start_trajectory(RunContext<dim>& ctx, bool restarted) {
-  if (!ctx.deck || ctx.deck->output.trajectory_every <= 0)
+  if (!ctx.deck || !ctx.deck->output.trajectory())
     return;
   const auto path = trajectory_path(ctx);
   if (restarted) {
@@ -56,9 +56,21 @@ template <int dim> void write_snapshot(RunContext<dim>& ctx) {
   write_sidecar(ctx);
 }
 
+template <int dim> void stage_end_snapshot(RunContext<dim>& ctx) {
+  if (!ctx.deck || !ctx.deck->output.trajectory_stage_ends || ctx.output_dir.empty() ||
+      !ctx.decomposition)
+    return;
+  // No snapshot comes after this step yet: deleting those after step - 1 removes only the
+  // snapshot of this step, if there is one.
+  prune_trajectory(ctx.world, trajectory_path(ctx), ctx.system.step - 1);
+  write_snapshot(ctx);
+}
+
 template void start_trajectory<2>(RunContext<2>&, bool);
 template void start_trajectory<3>(RunContext<3>&, bool);
 template void write_snapshot<2>(RunContext<2>&);
 template void write_snapshot<3>(RunContext<3>&);
+template void stage_end_snapshot<2>(RunContext<2>&);
+template void stage_end_snapshot<3>(RunContext<3>&);
 
 } // namespace granpack

@@ -241,6 +241,11 @@ OutputSpec read_output(TableReader& r) {
                   "wall seconds between checkpoints (0: off)");
   o.trajectory_every = r.integer_or("trajectory_every", 0, Range::non_negative(),
                                     "steps between trajectory snapshots (0: off)");
+  o.trajectory_every_time = r.number_or(
+      "trajectory_every_time", 0.0, Range::half_open(0.0, std::numeric_limits<double>::infinity()),
+      "simulated seconds between trajectory snapshots (0: off; finite)");
+  o.trajectory_stage_ends = r.boolean_or("trajectory_stage_ends", false,
+                                         "a trajectory snapshot at the end of every stage");
   r.finish();
   return o;
 }

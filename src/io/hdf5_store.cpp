@@ -738,13 +738,15 @@ template <int dim> void validate_for_write(const Configuration<dim>& c, const Fi
       if (v->size() != c.contacts.size())
         ctx.fail("a per-contact /network array has " + std::to_string(v->size()) + " rows for " +
                  std::to_string(c.contacts.size()) + " contacts");
-    std::vector<const std::vector<double>*> per_grain = {&f.contacts,    &f.carrying_contacts,
-                                                         &f.mean_stress, &f.rattler,
-                                                         &f.bond_order,  &f.crystalline};
+    std::vector<const std::vector<double>*> per_grain = {
+        &f.contacts,   &f.carrying_contacts, &f.mean_stress,  &f.rattler,
+        &f.bond_order, &f.crystalline,       &f.fixed_rattler};
     if (f.cluster_id.size() != n)
       ctx.fail("/network/cluster_id has " + std::to_string(f.cluster_id.size()) + " rows for " +
                std::to_string(n) + " owned particles");
     for (const auto& v : f.net_force)
+      per_grain.push_back(&v);
+    for (const auto& v : f.net_moment)
       per_grain.push_back(&v);
     for (const auto& v : f.stress)
       per_grain.push_back(&v);
@@ -841,6 +843,7 @@ void write_network(const FileContext& ctx, hid_t file, hid_t dxpl, const Network
   rows("carrying_contacts", f.carrying_contacts, ps, 0, "1");
   rows("mean_stress", f.mean_stress, ps, 0, "Pa");
   rows("rattler", f.rattler, ps, 0, "1");
+  rows("fixed_rattler", f.fixed_rattler, ps, 0, "1");
   rows("cluster_id", f.cluster_id, ps, 0, "1");
   rows("bond_order", f.bond_order, ps, 0, "1");
   rows("crystalline", f.crystalline, ps, 0, "1");
@@ -850,6 +853,14 @@ void write_network(const FileContext& ctx, hid_t file, hid_t dxpl, const Network
     for (int a = 0; a < dim; ++a)
       net.push_back(f.net_force[a][static_cast<std::size_t>(i)]);
   rows("net_force", net, ps, dim, "N");
+  // [n, rot_dim], as /particles/angular_velocity: about z in 2D, (x, y, z) in 3D.
+  constexpr int rd = rot_dim<dim>;
+  std::vector<double> moment;
+  moment.reserve(static_cast<std::size_t>(ps.count) * rd);
+  for (std::int64_t i = 0; i < ps.count; ++i)
+    for (int a = 0; a < rd; ++a)
+      moment.push_back(f.net_moment[std::size_t(a)][static_cast<std::size_t>(i)]);
+  rows("net_moment", moment, ps, rd, "N m");
   // [n, dim * dim], row-major sigma_ab: the sidecar shows it as a tensor (3D) or a
   // 4-component matrix (2D: ParaView has no 2 x 2 tensor).
   std::vector<double> stress;

@@ -84,12 +84,15 @@ std::string configuration_grid(const XdmfParticles& p) {
     os << attribute("contacts", "Scalar", "Node", n, "Float", "/network/contacts")
        << attribute("carrying_contacts", "Scalar", "Node", n, "Float", "/network/carrying_contacts")
        << attribute("net_force", "Vector", "Node", nd, "Float", "/network/net_force")
+       << attribute("net_moment", p.dimension == 2 ? "Scalar" : "Vector", "Node", rd, "Float",
+                    "/network/net_moment")
        << attribute("mean_stress", "Scalar", "Node", n, "Float", "/network/mean_stress")
        // 3D: a Tensor of 9 (ParaView's tensor glyphs, eigenvalues); 2D: 4 components, read by
        // ParaView as a plain 4-component array ("Tensor" insists on 9).
        << attribute("stress", p.dimension == 2 ? "Matrix" : "Tensor", "Node",
                     n + (p.dimension == 2 ? " 4" : " 9"), "Float", "/network/stress")
        << attribute("rattler", "Scalar", "Node", n, "Float", "/network/rattler")
+       << attribute("fixed_rattler", "Scalar", "Node", n, "Float", "/network/fixed_rattler")
        << attribute("cluster_id", "Scalar", "Node", n, "Int", "/network/cluster_id")
        << attribute("bond_order", "Scalar", "Node", n, "Float", "/network/bond_order")
        << attribute("crystalline", "Scalar", "Node", n, "Float", "/network/crystalline");

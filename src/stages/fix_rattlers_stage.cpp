@@ -209,6 +209,7 @@ template <int dim> StageReport run_stage(RunContext<dim>& ctx, const FixRattlers
   }
   global_sum_in_place(ctx.world, hist);
   resting = global_sum(ctx.world, resting);
+  ctx.fixed_rattlers = rattlers; // /network/fixed_rattler of the files written from now on
 
   StageReport r;
   r.steps = steps;

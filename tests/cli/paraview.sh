@@ -4,7 +4,7 @@
 # contacts, read and rewritten on 2 ranks) and its
 # contact network, and the numbers of points, cells and arrays it reports are those of
 # final.h5 (grains n points and n cells with radius, id, velocity, angular_velocity, contacts,
-# carrying_contacts, net_force, mean_stress, stress (2D: 4 components); contacts nc cells of 2 of 2 nc points with normal_force,
+# carrying_contacts, net_force, net_moment (2D: a scalar, = granpack_io's net_moment()), mean_stress, stress (2D: 4 components); contacts nc cells of 2 of 2 nc points with normal_force,
 # tangential_force, kind, the force range that of the file); the rendered force network is a
 # PNG of 300 x 300 pixels or more with more than one colour; jobs/tools/xdmf_series.py makes
 # a time series of the run's two files, which ParaView reads as 2 steps at their times, and the
@@ -61,7 +61,7 @@ check(f"particles: {g.get('points')} points, {g.get('cells')} cells = n = {p.n}"
       g.get("points") == p.n and g.get("cells") == p.n)
 # ParaView pads 2-component vectors to 3.
 want = {"radius": 1, "id": 1, "velocity": 3, "angular_velocity": 1, "contacts": 1,
-        "carrying_contacts": 1, "net_force": 3, "mean_stress": 1, "rattler": 1,
+        "carrying_contacts": 1, "net_force": 3, "net_moment": 1, "mean_stress": 1, "rattler": 1, "fixed_rattler": 1,
         "stress": 4,  # 2D: the 2 x 2 stress tensor as 4 components
         "cluster_id": 1, "bond_order": 1, "crystalline": 1}
 got = {k: v["components"] for k, v in g.get("point_arrays", {}).items()}
@@ -71,6 +71,14 @@ check(f"cluster_id range {g['point_arrays']['cluster_id']['range']} = the reader
       f"({len(np.unique(cid))} clusters, distant pairs as links)",
       np.allclose(g["point_arrays"]["cluster_id"]["range"], [cid.min(), cid.max()])
       and np.array_equal(p.network["cluster_id"], cid))
+# 2D: the net moment about z, a scalar; the engine's sums against the reader's recomputation.
+M = p.net_moment()
+mscale = np.abs(p.total_normal_force).max() * p.diameter
+check(f"net_moment range {g['point_arrays'].get('net_moment', {}).get('range')} = the reader's "
+      f"net_moment() [{M.min():.6g}, {M.max():.6g}] (K_r = {p._param('rolling_stiffness'):.3g})",
+      np.allclose(g["point_arrays"]["net_moment"]["range"], [M.min(), M.max()], rtol=0,
+                  atol=1e-9 * mscale)
+      and np.allclose(p.network["net_moment"].reshape(-1), M, rtol=0, atol=1e-9 * mscale))
 check("radius range as in the file", np.allclose(g["point_arrays"]["radius"]["range"],
                                                   [p.radius.min(), p.radius.max()]))
 check(f"contacts: {c.get('cells')} cells = nc = {p.nc}, {c.get('points')} points = 2 nc",

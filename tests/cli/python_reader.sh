@@ -36,12 +36,15 @@ kind = "compress"
 pressure = 1.0e4
 inertia_max = 1.0e-2
 quench_interval = 20000
+tolerance_moment = 1.0e-4
 TOML
 out="$scratch/run"
 check_exit "2-rank run" 0 "$scratch/run.txt" granpack_on 2 run "$scratch/small.toml" -o "$out" \
   || checks_stop python_reader "$scratch/run.txt"
 check_exit "analyze --json --h5" 0 "$scratch/an.txt" granpack_on 2 analyze "$out/final.h5" \
   --json "$out/analysis.json" --h5 "$out/analysis.h5"
+check_exit "stiffness --modes 2" 0 "$scratch/st.txt" granpack_on 2 stiffness "$out/final.h5" \
+  --json "$out/stiffness.json" --modes 2 --modes-file "$out/modes.h5"
 
 /usr/bin/python3 - "$out" "$GRANPACK_SOURCE_DIR" > "$scratch/py.txt" 2>&1 <<'PY'
 import sys
@@ -117,6 +120,25 @@ if nw:
     check("per-grain contacts across ranks", np.array_equal(nw["contacts"], p.coordination()))
     check("per-grain carrying contacts", np.array_equal(nw["carrying_contacts"], p.coordination(carrying_only=True)))
     check("per-grain net force", np.allclose(nw["net_force"], p.net_force(), rtol=0, atol=1e-9 * fscale))
+    # The net moment: the engine's sums against the reader's (forces at the middle of the
+    # overlap), their sum against the virial's antisymmetric part, and the balance that the
+    # compress stage's tolerance_moment = 1e-4 enforced (|M| < 1e-4 F1 a, F1 a = a^3 P).
+    M, mscale = nw.get("net_moment", np.zeros((0, 3))), fscale * p.diameter
+    check("per-grain net moment = the reader's net_moment() (force at the contact point)",
+          M.shape == (p.n, 3) and np.allclose(M, p.net_moment(), rtol=0, atol=1e-9 * mscale))
+    if M.shape == (p.n, 3):
+        total_m = -np.cross(p.branch, p.contact_force).sum(axis=0)
+        check(f"sum of net moments = -sum r_12 x f ({M.sum(axis=0)} N m)",
+              np.allclose(M.sum(axis=0), total_m, rtol=0, atol=1e-9 * mscale * p.nc))
+        mm = np.linalg.norm(M, axis=1) / (p.diameter ** 3 * P)
+        check(f"moments balance on every grain (max {mm.max():.3g} a^3 P < 1.5e-4)", mm.max() < 1.5e-4)
+        # In equilibrium the moments of T cancel on each grain: with T acting on `first` as on
+        # `second` (not opposite), they would not.
+        t = p.contacts["tangential_force"].astype(float)
+        mt = np.zeros((p.n, 3))
+        np.add.at(mt, p.i, np.cross((p.radius[p.i] - 0.5 * p.overlap)[:, None] * p.normal, t))
+        wm = np.linalg.norm(M + 2 * mt, axis=1).max() / (p.diameter ** 3 * P)
+        check(f"T on both grains alike would leave moments of {wm:.3g} a^3 P: the check can fail", wm > 1e-2)
     vg = 4.0 / 3.0 * np.pi * p.radius ** 3
     check(f"sum of V_g mean_stress_g / V = P ({(vg * nw['mean_stress']).sum() / p.volume:.8g} Pa)",
           abs((vg * nw["mean_stress"]).sum() / p.volume - p.pressure) < 1e-9 * P)
@@ -150,7 +172,8 @@ if nw:
     strong = (Nt > 0) & (Nt > Nt[Nt > 0].mean())
     check(f"strong flags: N > <N> over the compressive contacts ({int(nw['strong'].sum())} of {p.nc})",
           np.array_equal(nw["strong"] == 1, strong) and 0 < strong.sum() < p.nc)
-    check("units of /network", p.units.get("network/point") == "m" and p.units.get("network/net_force") == "N")
+    check("units of /network", p.units.get("network/point") == "m" and p.units.get("network/net_force") == "N"
+          and p.units.get("network/net_moment") == "N m" and gio.DERIVED_UNITS["net_moment"] == "N m")
 if nw:
     cid = p.cluster_ids()
     print(f"{len(np.unique(nw['cluster_id']))} clusters, the largest of {np.bincount(np.unique(cid, return_inverse=True)[1]).max()} grains")
@@ -195,6 +218,16 @@ s = gio.read_stiffness(sj)
 check("stiffness JSON: mechanisms, modes and rattler ids as arrays",
       isinstance(s["mechanisms"], int) and isinstance(s["modes"], list)
       and s["rattler_ids"].dtype == np.int64 and len(s["rattler_ids"]) == len(s["rattler_grains"]))
+
+# read_modes: every array named with its unit, as Packing.units.
+m = gio.read_modes(f"{out}/modes.h5")
+keys = [k for k, v in m.items() if k != "units" and v is not None and not isinstance(v, dict)]
+keys += [f"divalent_grains/{k}" for k in (m["divalent_grains"] or {})]
+missing = [k for k in keys if k not in m["units"]]
+check(f"read_modes: a unit for each of its {len(keys)} arrays (missing: {missing})",
+      not missing and m["units"]["position"] == "m" and m["units"]["mean_kn"] == "N/m"
+      and m["units"]["rotation_length"] == "m" and m["units"]["rotation"].startswith("rad/m")
+      and m["displacement"].shape == (2, 120, 3) and m["units"] is not gio.MODES_UNITS)
 
 gio.write_packing(f"{out}/copy.h5", 3, p.cell_length, p.grains, p.contacts,
                   attrs={"time": p.time, "step": p.step, "stage_index": 1}, deck=p.deck)
@@ -274,6 +307,5 @@ check "summarize.py: both rank counts and the efficiency (granpack 50.0%, LAMMPS
   "grep -q 'parallel efficiency 1->2 ranks: granpack 50.0%, LAMMPS 50.0%' '$b/summary.txt'"
 check_refused "summarize.py without a size" 2 "usage: summarize.py" "$b/summary_bad.txt" \
   /usr/bin/python3 "$bench/summarize.py" "$b"
-
 
 checks_done python_reader

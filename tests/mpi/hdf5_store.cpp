@@ -642,11 +642,14 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     f.carrying_contacts.push_back(0.5 * double(c.particles.id[i]));
     f.mean_stress.push_back(-double(c.particles.id[i]));
     f.rattler.push_back(double(c.particles.id[i] % 2));
+    f.fixed_rattler.push_back(double(c.particles.id[i] % 5 == 1));
     f.cluster_id.push_back(c.particles.id[i] / 10);
     f.bond_order.push_back(1e-3 * double(c.particles.id[i]));
     f.crystalline.push_back(double(c.particles.id[i] % 3 == 0));
     for (int a = 0; a < dim; ++a)
       f.net_force[a].push_back(double(c.particles.id[i]) + a);
+    for (int a = 0; a < rot_dim<dim>; ++a)
+      f.net_moment[std::size_t(a)].push_back(-double(c.particles.id[i]) - 0.5 * a);
     for (int k = 0; k < dim * dim; ++k)
       f.stress[std::size_t(k)].push_back(100.0 * double(c.particles.id[i]) + k);
   }
@@ -657,8 +660,13 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     const auto [pdims, point] = read_whole(path, "/network/point");
     const auto [ndims, normal] = read_whole(path, "/network/normal_force");
     const auto [gdims, net] = read_whole(path, "/network/net_force");
+    const auto [nmdims, moment] = read_whole(path, "/network/net_moment");
+    constexpr std::size_t rd = rot_dim<dim>;
+    ASSERT_EQ(nmdims, (std::vector<hsize_t>{123, rd}));
     const auto [cdims, count] = read_whole(path, "/network/contacts");
     const auto [rdims, rattler] = read_whole(path, "/network/rattler");
+    const auto [fdims, fixed] = read_whole(path, "/network/fixed_rattler");
+    ASSERT_EQ(fdims, (std::vector<hsize_t>{123}));
     const auto [sdims, stress] = read_whole(path, "/network/stress");
     const auto [kdims, cluster] = read_whole(path, "/network/cluster_id");
     const auto [odims, order] = read_whole(path, "/network/bond_order");
@@ -680,9 +688,11 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     for (std::size_t i = 0; i < 123; ++i) {
       EXPECT_EQ(count[i], ids[i]); // per-grain rows follow /particles
       EXPECT_EQ(rattler[i], double(std::int64_t(ids[i]) % 2));
+      EXPECT_EQ(fixed[i], double(std::int64_t(ids[i]) % 5 == 1));
       EXPECT_EQ(cluster[i], double(std::int64_t(ids[i]) / 10));
       EXPECT_EQ(order[i], 1e-3 * ids[i]);
       EXPECT_EQ(net[i * dim + 1], ids[i] + 1);
+      EXPECT_EQ(moment[i * rd + rd - 1], -ids[i] - 0.5 * double(rd - 1));
       for (std::size_t k = 0; k < dim * dim; ++k) // row-major sigma_ab, rows as /particles
         EXPECT_EQ(stress[i * dim * dim + k], 100.0 * ids[i] + double(k));
     }
@@ -690,7 +700,12 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     EXPECT_NE(x.find("TopologyType=\"Polyline\" NumberOfElements=\"45\""), std::string::npos) << x;
     EXPECT_NE(x.find("Dimensions=\"90 " + std::to_string(dim) + "\""), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/net_force<"), std::string::npos) << x;
+    EXPECT_NE(x.find(dim == 3 ? "Name=\"net_moment\" AttributeType=\"Vector\""
+                              : "Name=\"net_moment\" AttributeType=\"Scalar\""),
+              std::string::npos)
+        << x;
     EXPECT_NE(x.find(">net.h5:/network/rattler<"), std::string::npos) << x;
+    EXPECT_NE(x.find(">net.h5:/network/fixed_rattler<"), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/strong<"), std::string::npos) << x;
     EXPECT_NE(x.find("Name=\"cluster_id\" AttributeType=\"Scalar\""), std::string::npos) << x;
     EXPECT_NE(x.find(">net.h5:/network/crystalline<"), std::string::npos) << x;

@@ -2,7 +2,7 @@
 // The contact network as something to look at: per contact the segment between the two
 // centres (drawn to the periodic image of the second grain, never across the cell), the static
 // normal force N = N^e + N^a, |T| and a class (compressive, tensile, distant, unstressed); per
-// grain the contact counts and the net static force. Written into configuration files and
+// grain the contact counts, the net static force and moment. Written into configuration files and
 // shown by their XDMF sidecar (docs/visualisation.md, docs/hdf5-schema.md "/network").
 //
 // One rank's contacts over its local particles (owned + ghosts); per-grain sums land on the
@@ -47,6 +47,14 @@ template <int dim> struct NetworkFields {
   std::vector<double> contacts;                   ///< contacts (distant pairs not counted)
   std::vector<double> carrying_contacts;          ///< contacts with N^e > 0
   std::array<std::vector<double>, dim> net_force; ///< sum of the static contact forces (N)
+  /// Sum of the static contact moments about the grain's centre (N m; 2D: about z, per metre
+  /// of thickness): b x f of each contact force f applied at the contact point (branch b =
+  /// (R - h/2) n towards the partner, as ContactLaw::force and the engine's elastic moments),
+  /// plus [GRC]'s elastic rolling moment -K_r dtheta on `second` (+K_r dtheta on `first`).
+  /// ≈ 0 in equilibrium. Over the grains, sum_g net_moment_g = -sum_c r_12 x f_c (f on
+  /// `second`): the rolling moments cancel pairwise, what remains is the antisymmetric part of
+  /// the contact virial.
+  std::array<std::vector<double>, rot_dim<dim>> net_moment;
   /// The grain's mean static stress (Pa): tr of its share of the virial over its volume,
   /// (1/(dim V_g)) sum over its contacts of f.r_12 / 2 (V_g = pi R^2 per unit thickness in 2D,
   /// 4 pi R^3 / 3 in 3D); sum_g V_g mean_stress_g / V is the static pressure.
@@ -64,6 +72,10 @@ template <int dim> struct NetworkFields {
   /// Per owned grain: 1 for a rattler of the iterated rule, else 0. Not filled by
   /// contact_network (the rule runs across ranks: engine/network_fields.h).
   std::vector<double> rattler;
+  /// Per owned grain: 1 for a rattler that the last fix_rattlers stage of the run pushed onto
+  /// the backbone (treatment II of [AR] sec. III C: RunContext::fixed_rattlers), else 0. Not
+  /// filled by contact_network.
+  std::vector<double> fixed_rattler;
   /// Per owned grain: its cluster, the smallest id among the grains joined to it by the stored
   /// contacts (distant cohesive pairs included, as the aggregation of [GRC] counts clusters:
   /// comm/clusters.h); a grain without contacts is its own cluster. Not filled by

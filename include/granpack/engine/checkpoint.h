@@ -109,6 +109,8 @@ struct RunState {
   std::vector<StageReport> completed;
   std::vector<nlohmann::json> frames; ///< outermost stage first
   double wall_seconds = 0;
+  /// RunContext::fixed_rattlers, grain ids (absent from the text when empty).
+  std::vector<std::int64_t> fixed_rattlers;
   /// Checkpoints written before /parameters existed (run_state format 1) stored here what the
   /// stages had changed: restored over the deck's [material] (legacy_parameters).
   struct Legacy {

@@ -53,6 +53,11 @@ template <int dim> struct RunContext {
   StageTimers stage_timers;
   /// How often the MD engines of the stage in progress moved the cut planes (load balancing).
   std::int64_t stage_rebalances = 0;
+  /// Treatment II of [AR] sec. III C: the ids (sorted) of the rattlers that the last
+  /// fix_rattlers stage pushed onto the backbone, every rank's; cleared when a later stage
+  /// other than `set` or `write` starts (it moves the grains again). Written as
+  /// /network/fixed_rattler and kept in checkpoints' /run_state.
+  std::vector<GlobalId> fixed_rattlers;
 
   /// Takes the resume frame of the stage starting now (empty json if not resuming).
   nlohmann::json take_resume_frame() {

@@ -62,6 +62,15 @@ struct OutputSpec {
   double checkpoint_every_seconds = 3600.0; ///< wall seconds; 0: off
   /// MD steps between the snapshots of OUT/trajectory.h5 (engine/trajectory.h); 0: off
   std::int64_t trajectory_every = 0;
+  /// Simulated seconds between snapshots: one after each MD step that crosses a multiple of
+  /// it (engine/trajectory.h); 0: off
+  double trajectory_every_time = 0;
+  /// A snapshot at the end of every stage (engine/trajectory.h)
+  bool trajectory_stage_ends = false;
+  /// Any of the three trajectory keys is on.
+  bool trajectory() const {
+    return trajectory_every > 0 || trajectory_every_time > 0 || trajectory_stage_ends;
+  }
   friend bool operator==(const OutputSpec&, const OutputSpec&) = default;
 };
 

@@ -28,7 +28,7 @@ std::filesystem::path xdmf_path_for(const std::filesystem::path& h5_path);
 
 /// XDMF 3 text: a grid "particles" (geometry /particles/position, attributes radius, id,
 /// velocity, angular_velocity; with /network also contacts, carrying_contacts, net_force,
-/// mean_stress) and,
+/// net_moment, mean_stress, ...) and,
 /// with /network and contacts, a grid "contacts" (Polyline cells of 2 points /network/point,
 /// connectivity /network/line; cell attributes normal_force, tangential_force, kind), both in
 /// one spatial collection.
