@@ -203,7 +203,8 @@ void run_stages(MPI_Comm world, const Deck& deck, Log& log, const std::filesyste
     ctx.stage_timers = {};
     ctx.stage_rebalances = 0;
     // The rattlers fix_rattlers placed stay flagged until a stage moves the grains again (a
-    // restart inside fix_rattlers finds the list empty: it is set at the stage's end).
+    // restart inside fix_rattlers finds the list empty: it is set at the stage's end; a read
+    // stage sets it from its file).
     if (st.kind != "set" && st.kind != "write")
       ctx.fixed_rattlers.clear();
     // No rank starts a timed part before rank 0 started the stage's clock, and every part ends

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "granpack/comm/allgather.h"
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
 #include "granpack/comm/fault_injection.h"
@@ -1254,6 +1255,53 @@ FileMeta read_file_meta(MPI_Comm comm, const std::filesystem::path& path) {
   FileMeta m;
   collectively_typed(comm, [&] { m = read_meta(ctx, file); });
   return m;
+}
+
+std::vector<std::int64_t> read_fixed_rattlers(MPI_Comm comm, const std::filesystem::path& path) {
+  const FileContext ctx{path, true};
+  auto file = open_for_reading(comm, ctx);
+  // Each step of the path looked up alone: a missing /network is no error (older files,
+  // checkpoints), and H5Lexists of "network/fixed_rattler" would fail on it.
+  auto exists = [&](hid_t where, const char* name, const std::string& what) {
+    const htri_t e = H5Lexists(where, name, H5P_DEFAULT);
+    if (e < 0)
+      ctx.fail("cannot look up " + what, true);
+    return e > 0;
+  };
+  FileMeta meta;
+  Handle ids, flags;
+  collectively_typed(comm, [&] {
+    meta = read_meta(ctx, file);
+    if (!exists(file, "network", "group /network"))
+      return;
+    auto ng = group_open(ctx, file, "network");
+    if (!exists(ng, "fixed_rattler", "dataset /network/fixed_rattler"))
+      return;
+    auto pg = group_open(ctx, file, "particles");
+    ids = open_rows<std::int64_t>(ctx, pg, "/particles", "id", meta.n_particles, 0);
+    flags = open_rows<double>(ctx, ng, "/network", "fixed_rattler", meta.n_particles, 0);
+  });
+  if (!flags.valid()) // the same on every rank: one file
+    return {};
+  const Slice ps = even_slice(meta.n_particles, rank_of(comm), size_of(comm));
+  std::vector<std::int64_t> mine;
+  collectively_typed(comm, [&] {
+    auto dxpl = collective_dxpl(ctx);
+    const auto id = read_rows<std::int64_t>(ctx, ids, "/particles/id", ps, 0, dxpl);
+    const auto flag = read_rows<double>(ctx, flags, "/network/fixed_rattler", ps, 0, dxpl);
+    ids.reset(); // close the datasets before the file
+    flags.reset();
+    for (std::size_t i = 0; i < flag.size(); ++i) {
+      if (flag[i] != 0.0 && flag[i] != 1.0)
+        ctx.fail("/network/fixed_rattler row " + std::to_string(ps.offset + std::int64_t(i)) +
+                 " = " + std::to_string(flag[i]) + " (a flag: 0 or 1)");
+      if (flag[i] == 1.0)
+        mine.push_back(id[i]);
+    }
+  });
+  std::vector<std::int64_t> all = allgather_concat(comm, mine);
+  std::sort(all.begin(), all.end());
+  return all;
 }
 
 std::string describe_file(MPI_Comm comm, const std::filesystem::path& path) {

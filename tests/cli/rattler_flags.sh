@@ -7,7 +7,10 @@
 # /network/fixed_rattler all 0. After: fixed_rattler = 1 on exactly the grains fix_rattlers
 # pushed (as many as its report's `rattlers`, the grains flagged `rattler` before it), which moved,
 # while every other grain stayed where it was, bit for bit; the sidecar shows fixed_rattler. A
-# restart from the checkpoint written after fix_rattlers keeps the flags (/run_state).
+# restart from the checkpoint written after fix_rattlers keeps the flags (/run_state). A `read`
+# stage keeps them too: of after.h5 (its /network/fixed_rattler: a write stage after the read
+# writes the same flags, a compress stage after that clears them) and of the checkpoint (its
+# /run_state list).
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
@@ -56,13 +59,33 @@ check_exit "1-rank run: compress, write, fix_rattlers, write" 0 "$scratch/run.tx
 # directory: only that write stage runs again, from the restored state and /run_state.
 check_exit "restart from the checkpoint after fix_rattlers" 0 "$scratch/restart.txt" \
   granpack_on 1 run "$deck" -o "$scratch/again" --restart "$out/checkpoint.h5"
+# Decks of the same [sample] and [material] whose first stage reads a file: read_deck DECK
+# FILE STAGES (the TOML of the stages after the read).
+read_deck() {
+  { sed '/^\[\[stage\]\]/,$d' "$deck"
+    printf '[[stage]]\nkind = "read"\nfile = "%s"\n%s\n' "$2" "$3"; } > "$1"
+}
+read_deck "$scratch/reread.toml" "$out/after.h5" '[[stage]]
+kind = "write"
+file = "reread.h5"
+[[stage]]
+kind = "compress"
+pressure = 1.0e4
+max_steps = 20'
+check_exit "read after.h5, write, compress" 0 "$scratch/reread.txt" \
+  granpack_on 1 run "$scratch/reread.toml" -o "$scratch/reread"
+read_deck "$scratch/fromcp.toml" "$out/checkpoint.h5" '[[stage]]
+kind = "write"
+file = "fromcp.h5"'
+check_exit "read the checkpoint after fix_rattlers, write" 0 "$scratch/fromcp.txt" \
+  granpack_on 1 run "$scratch/fromcp.toml" -o "$scratch/fromcp"
 
-/usr/bin/python3 - "$out" "$scratch/again" > "$scratch/py.txt" 2>&1 <<'PY'
+/usr/bin/python3 - "$out" "$scratch/again" "$scratch" > "$scratch/py.txt" 2>&1 <<'PY'
 import json, sys
 import numpy as np
 import granpack_io as gio
 from checks import check
-out, again = sys.argv[1], sys.argv[2]
+out, again, scratch = sys.argv[1], sys.argv[2], sys.argv[3]
 b = gio.read_packing(f"{out}/before.h5")
 a = gio.read_packing(f"{out}/after.h5")
 rep = json.load(open(f"{out}/report.json"))["stages"]
@@ -85,6 +108,15 @@ g = gio.read_packing(f"{again}/after.h5")
 check("restarted after fix_rattlers: the same after.h5, fixed_rattler flags included",
       np.array_equal(g.grains["position"], a.grains["position"])
       and np.array_equal(g.network["fixed_rattler"], a.network["fixed_rattler"]))
+def flagged(p):
+    return set(p.grains["id"][p.network["fixed_rattler"] == 1].tolist())
+want = flagged(a)
+for name, path in [("read after.h5, write", "reread/reread.h5"),
+                   ("read the checkpoint, write", "fromcp/fromcp.h5")]:
+    r = gio.read_packing(f"{scratch}/{path}")
+    check(f"{name}: the same {len(want)} fixed rattlers", flagged(r) == want)
+f = gio.read_packing(f"{scratch}/reread/final.h5")
+check("read after.h5, then compress: no fixed rattler", not f.network["fixed_rattler"].any())
 PY
 checks_from "rattler flag checks" "$scratch/py.txt" $?
 checks_done rattler_flags

@@ -735,3 +735,57 @@ TYPED_TEST(Hdf5Store, NetworkGroupAndItsSidecarGrid) {
     EXPECT_EQ(file_bytes(xdmf_path_for(path)).find("Polyline"), std::string::npos);
   }
 }
+
+// A `read` stage keeps treatment II's flags (docs/visualisation.md): read_fixed_rattlers gives
+// every rank the ids that /network/fixed_rattler flags, on any rank count; nothing for a file
+// without /network; a flag other than 0 or 1 is refused on every rank, naming the file.
+TYPED_TEST(Hdf5Store, FixedRattlersReadBack) {
+  constexpr int dim = TypeParam::value;
+  const auto dir = scratch("fixed" + std::to_string(dim));
+  const auto s = random_sample<dim>(123, 45, 11);
+  auto c = my_part(s, true);
+  // Zeros of the right lengths (the writer checks them) but for the flags.
+  const std::size_t n = c.particles.n_owned(), nc = c.contacts.size();
+  NetworkFields<dim> f;
+  f.start.assign(nc, Vec<dim>::Zero());
+  f.end.assign(nc, Vec<dim>::Zero());
+  for (auto* v : {&f.normal_force, &f.tangential_magnitude, &f.mobilisation, &f.strong})
+    v->assign(nc, 0.0);
+  f.kind.assign(nc, 0);
+  for (auto* v : {&f.contacts, &f.carrying_contacts, &f.mean_stress, &f.rattler, &f.bond_order,
+                  &f.crystalline})
+    v->assign(n, 0.0);
+  f.cluster_id.assign(n, 0);
+  for (auto& v : f.net_force)
+    v.assign(n, 0.0);
+  for (auto& v : f.net_moment)
+    v.assign(n, 0.0);
+  for (auto& v : f.stress)
+    v.assign(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    f.fixed_rattler.push_back(double(c.particles.id[i] % 3 == 0));
+  std::vector<std::int64_t> want;
+  for (const auto& p : s.particles)
+    if (p.id % 3 == 0)
+      want.push_back(p.id);
+  std::sort(want.begin(), want.end());
+  ASSERT_FALSE(want.empty());
+  c.network = f;
+  write_configuration(MPI_COMM_WORLD, dir / "fixed.h5", c);
+  EXPECT_EQ(read_fixed_rattlers(MPI_COMM_WORLD, dir / "fixed.h5"), want);
+  if (world_rank() == 0) {
+    EXPECT_EQ(read_fixed_rattlers(MPI_COMM_SELF, dir / "fixed.h5"), want);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+
+  if (world_rank() == 0 && n > 0)
+    c.network->fixed_rattler[0] = 0.5;
+  write_configuration(MPI_COMM_WORLD, dir / "half.h5", c);
+  expect_input_error(
+      dir / "half.h5", [&] { read_fixed_rattlers(MPI_COMM_WORLD, dir / "half.h5"); },
+      "a fixed_rattler flag of 0.5");
+
+  c.network.reset();
+  write_configuration(MPI_COMM_WORLD, dir / "none.h5", c);
+  EXPECT_TRUE(read_fixed_rattlers(MPI_COMM_WORLD, dir / "none.h5").empty());
+}

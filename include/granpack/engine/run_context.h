@@ -56,7 +56,8 @@ template <int dim> struct RunContext {
   /// Treatment II of [AR] sec. III C: the ids (sorted) of the rattlers that the last
   /// fix_rattlers stage pushed onto the backbone, every rank's; cleared when a later stage
   /// other than `set` or `write` starts (it moves the grains again). Written as
-  /// /network/fixed_rattler and kept in checkpoints' /run_state.
+  /// /network/fixed_rattler and kept in checkpoints' /run_state; a `read` stage takes them
+  /// from its file (it leaves the grains as they were).
   std::vector<GlobalId> fixed_rattlers;
 
   /// Takes the resume frame of the stage starting now (empty json if not resuming).

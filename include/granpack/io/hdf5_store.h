@@ -56,7 +56,8 @@ template <int dim> struct Configuration {
   ContactStore<dim> contacts;
   FileMeta meta;
   /// Written as /network (docs/hdf5-schema.md) when set (on every rank or none): per contact
-  /// in the order of `contacts`, per grain in the owned order of `particles`. Never read back.
+  /// in the order of `contacts`, per grain in the owned order of `particles`. Not read back
+  /// (but for the fixed_rattler column: read_fixed_rattlers).
   std::optional<NetworkFields<dim>> network;
 };
 
@@ -76,6 +77,14 @@ void write_configuration(MPI_Comm comm, const std::filesystem::path& path,
 /// inconsistent file, a missing dataset/attribute, or a dimension other than dim.
 template <int dim>
 Configuration<dim> read_configuration(MPI_Comm comm, const std::filesystem::path& path);
+
+/// Collective on comm, like read_configuration: the ids (sorted, on every rank) of the grains
+/// that the file's /network/fixed_rattler flags, the rattlers that the writing run's last
+/// fix_rattlers stage placed (RunContext::fixed_rattlers), for a `read` stage to keep them;
+/// empty when the file has no such dataset (checkpoints: their /run_state holds the list;
+/// files written before it existed). Throws InputError like read_configuration, also for a
+/// flag other than 0 or 1.
+std::vector<std::int64_t> read_fixed_rattlers(MPI_Comm comm, const std::filesystem::path& path);
 
 /// Collective on comm (cheap: root attributes, /deck, /run_state and /parameters; may be called
 /// with MPI_COMM_SELF on one rank). Used to dispatch on the dimension before read_configuration.
