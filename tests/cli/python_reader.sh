@@ -280,12 +280,18 @@ for t in "$tools"/*.py; do
 done
 # jobs/bench's scripts too, called by run_bench.sh with the same command lines as before.
 bench="$GRANPACK_SOURCE_DIR/jobs/bench"
-check "no hand-parsed argv in jobs/bench: $(grep -n 'sys\.argv' "$bench"/*.py | grep -v 'main(sys\.argv\[1:\])')" \
-  "[ -z \"\$(grep -n 'sys\.argv' '$bench'/*.py | grep -v 'main(sys\.argv\[1:\])')\" ]"
-for t in "$bench"/*.py; do
+# (and jobs/bench/lammps's)
+check "no hand-parsed argv in jobs/bench: $(grep -n 'sys\.argv' "$bench"/*.py "$bench"/*/*.py | grep -v 'main(sys\.argv\[1:\])')" \
+  "[ -z \"\$(grep -n 'sys\.argv' '$bench'/*.py '$bench'/*/*.py | grep -v 'main(sys\.argv\[1:\])')\" ]"
+for t in "$bench"/*.py "$bench"/*/*.py; do
   check "$(basename "$t") uses argparse" "grep -q '^import argparse' '$t'"
 done
 b=$scratch/bench
+mkdir -p "$b"
+check_exit "tsuji_coefficient.py (zeta = 0.98 by default)" 0 "$b/tsuji.txt" /usr/bin/python3 \
+  "$bench/lammps/tsuji_coefficient.py"
+check "tsuji_coefficient.py: e = -0.164698... (docs/performance.md)" \
+  "grep -q 'zeta = 0.98: alpha = 2.4004999479, e = -0.164698' '$b/tsuji.txt'"
 mkdir -p "$b/1000"
 printf '# pressure 100.0\n0 1.0 0.0 0.0\n1 0.0 2.0 0.0\n' > "$b/granpack_static.txt"
 printf 'ITEM: TIMESTEP\n0\nITEM: ATOMS id fx fy fz\n1 1.0 0.0 0.0\n2 0.0 2.0 0.001\n' > "$b/forces.dump"
