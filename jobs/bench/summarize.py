@@ -4,10 +4,12 @@ ratio, 1 -> 2 efficiency.
 usage: summarize.py OUT_DIR SIZE... (run_bench.sh calls it)"""
 import argparse
 import glob
-import json
 import os
 import re
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+import granpack_io as gio  # noqa: E402
 
 
 def main(argv):
@@ -20,7 +22,10 @@ def main(argv):
     a = ap.parse_args(argv)
     if not os.path.isdir(a.out):
         ap.error(f"OUT_DIR {a.out}: no such directory")
-    summarize(a.out, a.sizes)
+    try:
+        summarize(a.out, a.sizes)
+    except gio.GranpackFileError as e:
+        gio.fail("summarize.py", e)
 
 
 def summarize(out, sizes):
@@ -31,7 +36,7 @@ def summarize(out, sizes):
         d = os.path.join(out, size)
         rate = {}
         for np in (1, 2):
-            gps = [json.load(open(f)) for f in glob.glob(os.path.join(d, f"granpack_np{np}_*.json"))]
+            gps = [gio.read_bench(f) for f in glob.glob(os.path.join(d, f"granpack_np{np}_*.json"))]
             lmp_rates = []
             for f in glob.glob(os.path.join(d, f"lammps_np{np}_*.log")):
                 m = re.search(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms",

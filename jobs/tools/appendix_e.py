@@ -12,9 +12,10 @@ against time below. The verdicts are the stage's (docs/stiffness.md).
 import argparse
 import csv
 import glob
-import json
 import os
 import re
+
+import granpack_io as gio
 
 AR = {("1kPa", "frozen"): "8/10 unstable", ("10kPa", "frozen"): "2/10 unstable",
       ("1kPa", "free"): "0/10 collapsed", ("10kPa", "free"): "0/10 collapsed"}
@@ -27,7 +28,7 @@ def load(out, ratio):
         rep = os.path.join(d, "report.json")
         if not m or not os.path.exists(rep):
             continue
-        stage = [s for s in json.load(open(rep))["stages"] if s["kind"] == "divalent_launch"][0]
+        stage = [s for s in gio.read_report(rep).stages if s["kind"] == "divalent_launch"][0]
         rows = list(csv.DictReader(open(os.path.join(d, "divalent_trajectory.csv"))))
         tests.append(dict(level=m.group(1), mode=m.group(2), pick=int(m.group(3)),
                           values=stage["values"], steps=stage["steps"], time=stage["time"],

@@ -27,6 +27,7 @@ from collections import namedtuple
 from pathlib import Path
 
 import ar_paper as paper
+import granpack_io as gio
 
 PROG = "ar_tables.py"
 PAPER_SAMPLES = 5  # [AR] sec. III: "five different configurations of n = 4000 beads"
@@ -61,20 +62,11 @@ def note(msg):
 # ---------------------------------------------------------------- ensemble files
 
 def load_ensemble(path):
-    """The parsed ensemble.json, checked for the keys this tool relies on."""
+    """The ensemble.json (granpack_io.read_ensemble), checked for the keys this tool relies on."""
     try:
-        text = Path(path).read_text()
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file")
-    except (OSError, UnicodeDecodeError) as e:
-        raise InputError(f"{path}: cannot read ({e})")
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise InputError(f"{path}: not JSON ({e})")
-    if not isinstance(data, dict) or data.get("format") != "granpack-ensemble":
-        raise InputError(f"{path}: not a granpack ensemble file (\"format\" must be "
-                         "\"granpack-ensemble\")")
+        data = gio.read_ensemble(path)
+    except gio.GranpackFileError as e:
+        raise InputError(str(e)) from None
     version = data.get("format_version")
     if not isinstance(version, int) or version < 1:
         raise InputError(f"{path}: \"format_version\" must be an integer >= 1, got {version!r}")

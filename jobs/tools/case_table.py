@@ -8,9 +8,10 @@ from SEED=2 bash jobs/runs/method1_sweep.sh 2), one line per case over every bas
 report: K, and the mean and sample standard deviation (ddof = 1) of Phi, z and z_int.
 """
 import argparse
-import json
 import os
 import statistics
+
+import granpack_io as gio
 
 
 def fmt(v, width, prec):
@@ -28,6 +29,18 @@ def report_path(base, case):
     run = os.path.join(base, case, "report.json")
     flat = os.path.join(base, case + ".report.json")
     return run if os.path.exists(run) or not os.path.exists(flat) else flat
+
+
+def read_report(base, case):
+    """The stages of the case's report.json (granpack_io.read_report), None if there is no
+    report; a report that is not one stops the tool (exit 2)."""
+    path = report_path(base, case)
+    if not os.path.exists(path):
+        return None
+    try:
+        return gio.read_report(path).raw
+    except gio.GranpackFileError as e:
+        gio.fail("case_table.py", e)
 
 
 def chosen_stage(report, stage):
@@ -48,11 +61,8 @@ def ensemble_table(bases, cases, stage):
     for c in cases:
         phis, zs, zints, skipped = [], [], [], []
         for base in bases:
-            try:
-                with open(report_path(base, c)) as f:
-                    s = chosen_stage(json.load(f), stage)
-            except OSError:
-                continue
+            r = read_report(base, c)
+            s = chosen_stage(r, stage) if r is not None else None
             if s is None:
                 continue
             if not s.get("equilibrated", True):
@@ -87,10 +97,8 @@ def main(argv):
     phis, zs = [], []
     print(f"{'case':>22} {'Phi':>8} {'z':>6} {'z_int':>6} {'z*':>6} {'x0':>6} {'steps':>9} {'wall s':>8}")
     for c in cases:
-        try:
-            with open(report_path(base, c)) as f:
-                r = json.load(f)
-        except OSError:
+        r = read_report(base, c)
+        if r is None:
             print(f"{c:>22}  (no report.json)")
             continue
         s = chosen_stage(r, stage)

@@ -11,9 +11,10 @@ Krylov run, each matrix's method, iterations, largest true residual and seconds.
 Exit status 1 if a tensor differs by more than --tol of max |c| (default 1e-6, issue 28's bar).
 """
 import argparse
-import json
 
 import numpy as np
+
+import granpack_io as gio
 
 TENSORS = (("c", lambda j: j["elastic_tensor"]["c"]),
            ("c_affine", lambda j: j["elastic_tensor"]["c_affine"]),
@@ -26,7 +27,10 @@ def main():
     ap.add_argument("other")
     ap.add_argument("--tol", type=float, default=1e-6)
     a = ap.parse_args()
-    ref, got = json.load(open(a.reference)), json.load(open(a.other))
+    try:
+        ref, got = gio.read_stiffness(a.reference), gio.read_stiffness(a.other)
+    except gio.GranpackFileError as e:
+        gio.fail("compare_tensors.py", e)
     print(f"reference: n = {ref['n']}, {ref['solver']['path']} path; "
           f"other: n = {got['n']}, {got['solver']['path']} path, moduli_valid {got['moduli_valid']}")
     worst = 0.0

@@ -39,6 +39,8 @@ from pathlib import Path
 
 import numpy as np
 
+import granpack_io as gio
+
 PROG = "ensemble_moduli.py"
 QUANTITIES = ("B_V", "B_R", "G_V", "G_R", "G_over_B", "nonaffine_B", "nonaffine_G", "B_affine",
               "G_affine", "k", "z_star", "P", "phi", "H_over_Nf", "B_reduced", "G_reduced",
@@ -52,9 +54,9 @@ class InputError(Exception):
 def sample_values(path):
     """The quantities of one stiffness JSON, or None (with the reason) if it has no moduli."""
     try:
-        j = json.loads(Path(path).read_text())
-    except (OSError, ValueError) as e:
-        raise InputError(f"{path}: not a readable JSON file ({e})") from None
+        j = gio.read_stiffness(path)
+    except gio.GranpackFileError as e:
+        raise InputError(str(e)) from None
     for key in ("backbone_contacts", "backbone_grains", "pressure", "phi", "mechanisms"):
         if key not in j:
             raise InputError(f"{path}: no key '{key}' (not a `granpack stiffness --json` file?)")

@@ -13,12 +13,18 @@ docs/report.md, docs/analysis.md, docs/stiffness.md):
   read_report(report.json)  stages of a run -> Report (stage table as arrays, with units)
   read_stiffness(FILE.json) `granpack stiffness --json` -> dict, modes as id arrays
   read_ensemble(ensemble.json) -> dict
+  read_bench(FILE.json)     `granpack bench --json` -> dict (units in BENCH_UNITS)
   read(FILE)                any of the above, chosen by the file's content
   write_packing(FILE.h5, ...) a granpack configuration from arrays (synthetic structures, copies)
 
 Errors in the input raise GranpackFileError naming the file and the object (exit code 2 in the
 tools through `fail`). Rows of a packing stay in file order; `p.row_of(ids)` maps ids to rows.
+
+The tools of jobs/tools and jobs/bench read granpack's files only through these functions (no
+json.load or h5py of their own). From a shell script (jobs/bench/run_bench.sh):
+  python3 jobs/tools/granpack_io.py value FILE KEY   # repr() of a top-level value of FILE
 """
+import argparse
 import json
 import math
 from pathlib import Path
@@ -69,6 +75,15 @@ MODES_UNITS = {
     "divalent_grains/displacement": "1 (per unit mode amplitude)",
     "divalent_grains/rotation": "rad/m (per unit mode amplitude)",
 }
+# Units of `granpack bench --json` (src/app/bench.cpp, docs/performance.md): times are wall
+# seconds of the timed steps (forces_max: the slowest rank's; forces_step_max: the sum over the
+# steps of each step's slowest force pass), skin the Verlet skin in metres.
+BENCH_UNITS = {"code": "text", "n": "1", "ranks": "1", "steps": "1", "dt": "s", "skin": "m",
+               "wall": "s", "particle_steps_per_s_per_rank": "1/s", "forces": "s",
+               "forces_max": "s", "forces_step_max": "s", "neighbor": "s", "comm": "s",
+               "integrate": "s", "rebuilds": "1", "static_pressure": "Pa",
+               "static_contacts": "1", "rss_max_bytes": "B", "bytes_per_grain": "B",
+               "ghosts": "1", "ghosts_max": "1", "owned_max": "1"}
 # Units of the report's stage entries (docs/report.md).
 STAGE_UNITS = {"steps": "1", "time": "s", "phi": "1", "pressure": "Pa", "kappa": "1",
                "inertia_max": "1", "z": "1", "z_star": "1", "x0": "1", "x2": "1", "z2": "1",
@@ -492,14 +507,20 @@ def _read_json(path):
     if not p.exists():
         raise GranpackFileError(f"{path}: no such file")
     try:
-        return json.loads(p.read_text())
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise GranpackFileError(f"{path}: not a JSON file ({e})") from None
+        text = p.read_text()
+    except (OSError, UnicodeDecodeError) as e:
+        raise GranpackFileError(f"{path}: cannot read ({e})") from None
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise GranpackFileError(f"{path}: not JSON ({e})") from None
 
 
-def read_analysis(path):
+def read_analysis(path, arrays=True):
     """`granpack analyze` output, --json (JSON) or --h5 (HDF5, io/json_hdf5.h) -> nested dict;
-    curves and histograms as numpy arrays (g_r, z_h, P_f, x_i, order, density ...)."""
+    curves and histograms as numpy arrays (g_r, z_h, P_f, x_i, order, density ...); the keys,
+    and their units, of docs/analysis.md. arrays=False: a JSON file's lists stay lists (for
+    tools that check each value themselves)."""
     if str(path).endswith((".h5", ".hdf5")):
         with _open_h5(path) as f:
             if f.attrs.get("format") == "granpack":
@@ -508,7 +529,7 @@ def read_analysis(path):
     d = _read_json(path)
     if not isinstance(d, dict):
         raise GranpackFileError(f"{path}: not an analysis (a JSON object expected)")
-    return _arrays(d)
+    return _arrays(d) if arrays else d
 
 
 def read_modes(path):
@@ -609,16 +630,35 @@ def mode_field(packing, modes):
 
 
 def read_ensemble(path):
+    """ensemble.json of `granpack ensemble` (docs/cli.md, docs/ar-tables.md) -> dict as stored:
+    'format' ("granpack-ensemble"), 'format_version', 'report' and 'analysis' (per configuration
+    stem, per JSON pointer of report.json or the analysis: the per-sample 'values' with 'mean',
+    'sd', in the unit of the quantity they collect, docs/report.md and docs/analysis.md)."""
     d = _read_json(path)
     if not isinstance(d, dict) or d.get("format") != "granpack-ensemble":
-        raise GranpackFileError(f"{path}: not an ensemble.json (format 'granpack-ensemble')")
+        raise GranpackFileError(f"{path}: not a granpack ensemble file (\"format\" must be "
+                                "\"granpack-ensemble\")")
+    return d
+
+
+def read_bench(path):
+    """`granpack bench --json` (docs/cli.md) -> dict as stored: n, ranks, steps, dt, skin,
+    wall, particle_steps_per_s_per_rank, the phases' seconds (forces, forces_max,
+    forces_step_max, neighbor, comm, integrate), rebuilds, static_pressure, bytes_per_grain ...
+    (units: BENCH_UNITS; older files lack some keys)."""
+    d = _read_json(path)
+    if not isinstance(d, dict) or "particle_steps_per_s_per_rank" not in d:
+        raise GranpackFileError(f"{path}: no 'particle_steps_per_s_per_rank' (not a "
+                                "`granpack bench --json` file)")
     return d
 
 
 def read(path):
     """Any granpack file, by content: a packing (.h5 with format = granpack), an analysis (.h5
-    otherwise, or JSON with 'phi'), `stiffness --modes` fields (.h5, kind = stiffness_modes), a report (JSON with 'stages'), a stiffness result (JSON with
-    'mechanisms') or an ensemble (JSON with format = granpack-ensemble)."""
+    otherwise, or JSON with 'phi'), `stiffness --modes` fields (.h5, kind = stiffness_modes), a
+    report (JSON with 'stages'), a stiffness result (JSON with 'mechanisms'), an ensemble (JSON
+    with format = granpack-ensemble) or a bench result (JSON with
+    'particle_steps_per_s_per_rank')."""
     if str(path).endswith((".h5", ".hdf5")):
         with _open_h5(path) as f:
             if f.attrs.get("format") == "granpack":
@@ -635,6 +675,8 @@ def read(path):
             return Report(path, d)
         if "mechanisms" in d:
             return read_stiffness(path)
+        if "particle_steps_per_s_per_rank" in d:
+            return d
         return _arrays(d)
     raise GranpackFileError(f"{path}: not a granpack JSON file (an object expected)")
 
@@ -694,3 +736,27 @@ def write_packing(path, dimension, cell_length, grains, contacts=None, attrs=Non
             g = f.create_group("parameters")
             for k, v in parameters.items():
                 g.attrs[k] = v
+
+
+def main(argv=None):
+    """`granpack_io.py value FILE KEY`: prints repr() of FILE's top-level KEY (any granpack JSON
+    file, read as `read` does: a report's keys are its raw dict's); exit 2 on bad input."""
+    ap = argparse.ArgumentParser(prog="granpack_io.py", description="Values of granpack files "
+                                 "for shell scripts (the reader itself: import granpack_io).")
+    sub = ap.add_subparsers(dest="command", required=True)
+    v = sub.add_parser("value", help="print repr() of a top-level value of a JSON file")
+    v.add_argument("file")
+    v.add_argument("key")
+    a = ap.parse_args(argv)
+    try:
+        d = read(a.file)
+        d = d.raw if isinstance(d, Report) else d
+        if not isinstance(d, dict) or a.key not in d:
+            raise GranpackFileError(f"{a.file}: no key '{a.key}'")
+    except GranpackFileError as e:
+        fail("granpack_io.py", e)
+    print(repr(d[a.key]))
+
+
+if __name__ == "__main__":
+    main()

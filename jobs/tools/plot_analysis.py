@@ -16,7 +16,6 @@ The written files are printed on stdout; notes about missing data (older or 2D f
 stderr and the figure, or the file's curves, are left out. See docs/plots.md.
 """
 import argparse
-import json
 import math
 import sys
 from pathlib import Path
@@ -26,6 +25,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import granpack_io as gio  # noqa: E402
 
 PROG = "plot_analysis.py"
 # Fit window of eq. (35) used by `granpack analyze` (docs/analysis.md, z_h_fit_*).
@@ -108,20 +109,11 @@ def coordination_dict(value):
 
 
 def load(path):
-    p = Path(path)
+    """The analysis as stored (granpack_io.read_analysis, lists kept: as_array checks them)."""
     try:
-        text = p.read_text()
-    except OSError as e:
-        die(f"cannot read '{path}': {e.strerror or e}")
-    except UnicodeDecodeError:
-        die(f"'{path}' is not a JSON file (not text)")
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        die(f"'{path}' is not valid JSON: {e}")
-    if not isinstance(data, dict):
-        die(f"'{path}' is not a `granpack analyze --json` file (top level is not an object)")
-    return data
+        return gio.read_analysis(path, arrays=False)
+    except gio.GranpackFileError as e:
+        die(e)
 
 
 def save(fig, out_dir, name, written):
