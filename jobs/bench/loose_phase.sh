@@ -30,19 +30,8 @@ for deck in "${decks[@]}"; do
         load=$(cut -d' ' -f1 /proc/loadavg)
         /usr/bin/time -f "%U %S" -o "$dir.cpu" nice -n "$NICE" mpirun -np "$np" "$bin" run "$deck" \
           -o "$dir" -q > "$dir.log" 2>&1
-        /usr/bin/python3 - "$dir/report.json" "$name" "$np" "$which" "$try" "$load" "$dir.cpu" <<'PY'
-import json, sys
-report, name, np_, which, try_, load, cpu = sys.argv[1:]
-cpu = sum(float(x) for x in open(cpu).read().split()[-2:])
-s = [s for s in json.load(open(report))["stages"] if s.get("md_classes")][-1]
-c, ph = s["md_classes"], s["phase_seconds"]
-md = sum(ph[k] for k in ("forces", "neighbor", "comm", "integrate"))
-rate = lambda k: c[k]["particle_steps_per_second"] or 0.0
-print(f"{name} np{np_} {which:6s} try {try_} load {load}: loose {c['loose']['steps']} steps "
-      f"{rate('loose'):.3e}/s, dense {c['dense']['steps']} steps {rate('dense'):.3e}/s, "
-      f"MD wall {md:.2f} s, forces {ph['forces']:.2f} s (CPU {ph['forces_cpu']:.2f} s), "
-      f"run CPU {cpu:.2f} s", flush=True)
-PY
+        /usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/loose_line.py" "$dir/report.json" "$name" \
+          "$np" "$which" "$try" "$load" "$dir.cpu"
       done
     done
   done

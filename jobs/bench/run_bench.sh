@@ -50,8 +50,8 @@ for size in $sizes; do
   mpirun -np 1 "$exe" bench "$packing" --replicate "$kx" "$ky" "$kz" --steps 1 \
     --static-forces "$dir/granpack_static.txt" --lammps-data "$dir/bench.data" \
     --json "$dir/static.json" >"$dir/static.txt"
-  dt=$($py -c "import json,sys; print(repr(json.load(open(sys.argv[1]))['dt']))" "$dir/static.json")
-  skin=$($py -c "import json,sys; print(repr(json.load(open(sys.argv[1]))['skin']))" "$dir/static.json")
+  dt=$($py "$root/jobs/tools/granpack_io.py" value "$dir/static.json" dt)
+  skin=$($py "$root/jobs/tools/granpack_io.py" value "$dir/static.json" skin)
   (cd "$dir" && mpirun -np 1 lmp -in "$here/lammps/in.granular" -var data bench.data -var dt "$dt" \
      -var skin "$skin" -var steps 0 -var mode static -log lammps_static.log -screen none)
   $py "$here/compare_static.py" "$dir/granpack_static.txt" "$dir/forces.dump" "$dir/lammps_static.log" \
@@ -80,13 +80,5 @@ for deck in ${E2E:-}; do
   mpirun -np 2 "$exe" run "$root/jobs/decks/$deck.toml" -o "$d" -q >"$d.log" 2>&1 \
     || { echo "[bench] $deck failed (log $d.log)" >&2; continue; }
   t1=$(date +%s.%N)
-  $py - "$deck" "$t0" "$t1" "$d" <<'PY'
-import glob, json, os, sys
-deck, t0, t1, d = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), sys.argv[4]
-r = json.load(open(os.path.join(d, "report.json")))
-last = [s for s in r["stages"] if s.get("steps", 0) > 0][-1]
-print(f"[bench] end to end {deck}: {(t1 - t0) / 60:.2f} min on 2 ranks, "
-      f"{sum(s.get('steps', 0) for s in r['stages'])} steps, phi {last.get('phi', float('nan')):.5f}, "
-      f"z* {last.get('z_star', float('nan'))}")
-PY
+  $py "$here/e2e_line.py" "$deck" "$t0" "$t1" "$d"
 done

@@ -16,24 +16,5 @@ for seed in $seeds; do
     mpiexec -n "$np" "$exe" run "$work/${deck}_$seed.toml" -o "$work/out_${deck}_$seed" --quiet > /dev/null
   done
 done
-/usr/bin/python3 - "$work" $seeds <<'PY'
-import json, sys, statistics as st
-work, seeds = sys.argv[1], sys.argv[2:]
-rows = {}
-for seed in seeds:
-    for deck in ["AC_small", "B_small", "D_small"]:
-        r = json.load(open(f"{work}/out_{deck}_{seed}/report.json"))
-        for s in r["stages"]:
-            if s["z_star"] is not None and s["kind"] in ("compress", "pressure_steps"):
-                rows.setdefault(s["name"], []).append(s)
-keys = ["phi", "z_star", "x0", "x2", "z2"]
-print("state  " + "  ".join(f"{k:>17}" for k in keys))
-for name, ss in rows.items():
-    cells = []
-    for k in keys:
-        v = [s[k] for s in ss]
-        sd = st.stdev(v) if len(v) > 1 else 0.0
-        cells.append(f"{st.mean(v):9.4f} ± {sd:6.4f}")
-    print(f"{name:6} " + "  ".join(cells) + "   values: " + " ".join(f"{s['phi']:.4f}/{s['z_star']:.3f}/{s['x0']:.3f}" for s in ss))
-PY
+/usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/ci_bands.py" "$work" $seeds
 rm -rf "$work"

@@ -44,15 +44,7 @@ for entry in "${pictures[@]}"; do
   width=${size%x*} height=${size#*x}
   src="$root/docs/data/$file"
   # The stored deck up to its first stage, then one `read` stage of the file itself.
-  ROOT="$root" /usr/bin/python3 - "$src" "$work/$label.toml" <<'PY'
-import os, sys
-sys.path.insert(0, os.path.join(os.environ["ROOT"], "jobs/tools"))
-import granpack_io as gio
-p = gio.read_packing(sys.argv[1])
-head = p.deck.split("[[stage]]")[0]
-with open(sys.argv[2], "w") as f:
-    f.write(head + f'\n[[stage]]\nkind = "read"\nfile = "{os.path.abspath(sys.argv[1])}"\n')
-PY
+  /usr/bin/python3 "$root/jobs/tools/read_deck.py" "$src" "$work/$label.toml"
   mpiexec -n 2 "$exe" run "$work/$label.toml" -o "$work/$label" -q < /dev/null > "$work/$label.log" 2>&1 \
     || { tail -5 "$work/$label.log" >&2; exit 1; }
   if [ "$what" = packing ]; then
@@ -73,8 +65,6 @@ PY
       "${extra[@]}" ${options:-} > /dev/null
   fi
   # 256 colours (Pillow, which matplotlib brings): a third of the size, the same look.
-  /usr/bin/python3 -c 'import sys; from PIL import Image
-im = Image.open(sys.argv[1]).convert("RGB")
-im.quantize(colors=256, method=Image.Quantize.MEDIANCUT).save(sys.argv[1], optimize=True)' "$dest/$label.png"
+  /usr/bin/python3 "$root/jobs/tools/quantize_png.py" "$dest/$label.png"
   echo "$dest/$label.png ($(stat -c %s "$dest/$label.png") bytes)"
 done
