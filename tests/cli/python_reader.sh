@@ -6,7 +6,9 @@
 # as --json and --h5 (the same curves), a committed cohesive 2D file (attraction N^a, balance
 # in F1), a committed stiffness JSON (modes, rattler ids), write_packing (round trip); and bad
 # input (missing file, foreign HDF5, missing dataset, unknown contact id) raises
-# GranpackFileError naming the file and the object.
+# GranpackFileError naming the file and the object. Then the scripts of jobs/tools and
+# jobs/bench: argparse, no h5py or json.load of their own (granpack_io reads), no sys.argv in
+# the Python their shell scripts run, and the scripts those call, on small inputs.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
@@ -286,6 +288,13 @@ check "no hand-parsed argv in jobs/bench: $(grep -n 'sys\.argv' "$bench"/*.py "$
 for t in "$bench"/*.py "$bench"/*/*.py; do
   check "$(basename "$t") uses argparse" "grep -q '^import argparse' '$t'"
 done
+# Nor does a Python snippet inside their shell scripts read sys.argv (the snippets are tools of
+# their own, with argparse); and no script, nor snippet, opens granpack's JSON outputs itself
+# (report.json, analysis, ensemble, stiffness and bench JSON): granpack_io's read_* do.
+check "no sys.argv in the shell scripts of jobs/tools, jobs/bench: $(grep -n 'sys\.argv' "$tools"/*.sh "$bench"/*.sh)" \
+  "[ -z \"\$(grep -n 'sys\.argv' '$tools'/*.sh '$bench'/*.sh)\" ]"
+json_open="$(grep -n 'json\.load' "$tools"/*.py "$tools"/*.sh "$bench"/*.py "$bench"/*/*.py "$bench"/*.sh | grep -v '/granpack_io\.py:')"
+check "no json.load outside granpack_io.py in jobs/tools, jobs/bench: $json_open" "[ -z \"\$json_open\" ]"
 b=$scratch/bench
 mkdir -p "$b"
 check_exit "tsuji_coefficient.py (zeta = 0.98 by default)" 0 "$b/tsuji.txt" /usr/bin/python3 \
@@ -303,7 +312,7 @@ check "compare_static.py: n = 2, relative pressure difference 4.975e-03" \
 check_refused "compare_static.py with two files" 2 "usage: compare_static.py" "$b/static_bad.txt" \
   /usr/bin/python3 "$bench/compare_static.py" "$b/granpack_static.txt" "$b/forces.dump"
 for np in 1 2; do
-  printf '{"n": 1000, "particle_steps_per_s_per_rank": %s, "wall": 10.0, "forces": 5.0, "neighbor": 1.0, "comm": 1.0, "integrate": 1.0, "rebuilds": 3, "bytes_per_grain": 500}\n' \
+  printf '{"n": 1000, "particle_steps_per_s_per_rank": %s, "wall": 10.0, "forces": 5.0, "neighbor": 1.0, "comm": 1.0, "integrate": 1.0, "rebuilds": 3, "bytes_per_grain": 500, "dt": 1.25e-07, "skin": 0.0001}\n' \
     $((2000000 / np)) > "$b/1000/granpack_np${np}_1.json"
   printf 'Loop time of 2.0 on %s procs for 100 steps with 1000 atoms\n' "$np" > "$b/1000/lammps_np${np}_1.log"
 done
@@ -313,5 +322,26 @@ check "summarize.py: both rank counts and the efficiency (granpack 50.0%, LAMMPS
   "grep -q 'parallel efficiency 1->2 ranks: granpack 50.0%, LAMMPS 50.0%' '$b/summary.txt'"
 check_refused "summarize.py without a size" 2 "usage: summarize.py" "$b/summary_bad.txt" \
   /usr/bin/python3 "$bench/summarize.py" "$b"
+
+# The snippets that were inside the shell scripts, as those call them now.
+check_exit "granpack_io.py value FILE dt, run_bench.sh's command line" 0 "$b/dt.txt" /usr/bin/python3 \
+  "$tools/granpack_io.py" value "$b/1000/granpack_np1_1.json" dt
+check "granpack_io.py value: repr of the stored dt ($(cat "$b/dt.txt"))" "[ \"\$(cat '$b/dt.txt')\" = 1.25e-07 ]"
+check_refused "granpack_io.py value with an unknown key" 2 "granpack_np1_1.json: no key 'nope'" \
+  "$b/dt_bad.txt" /usr/bin/python3 "$tools/granpack_io.py" value "$b/1000/granpack_np1_1.json" nope
+check_exit "e2e_line.py on the 2-rank run, run_bench.sh's command line" 0 "$b/e2e.txt" /usr/bin/python3 \
+  "$bench/e2e_line.py" small 100 220 "$out"
+check "e2e_line.py: 2.00 min, the compress stage's phi ($(cat "$b/e2e.txt"))" \
+  "grep -q '^\[bench\] end to end small: 2.00 min on 2 ranks, [0-9]* steps, phi 0\.[0-9]\{5\}, z\* [0-9.]*$' '$b/e2e.txt'"
+mkdir -p "$b/ci"
+for deck in AC_small B_small D_small; do ln -s "$out" "$b/ci/out_${deck}_1"; done
+check_exit "ci_bands.py WORK SEED, ci_bands.sh's command line" 0 "$b/ci.txt" /usr/bin/python3 \
+  "$tools/ci_bands.py" "$b/ci" 1
+check "ci_bands.py: the compress stage of the three runs, sd 0 ($(sed -n 2p "$b/ci.txt"))" \
+  "grep -q '^compress  *0\.[0-9]\{4\} ± 0\.0000 ' '$b/ci.txt'"
+check_exit "read_deck.py FILE OUT, render_pictures.sh's command line" 0 "$b/deck.txt" /usr/bin/python3 \
+  "$tools/read_deck.py" "$out/final.h5" "$b/read.toml"
+check "read_deck.py: the deck's [sample] then one read stage of the file" \
+  "grep -q '^\[sample\]' '$b/read.toml' && [ \$(grep -c '^\[\[stage\]\]' '$b/read.toml') -eq 1 ] && tail -1 '$b/read.toml' | grep -qF 'file = \"$(cd "$out" && pwd)/final.h5\"'"
 
 checks_done python_reader
