@@ -45,8 +45,9 @@ void ContactForceLoop<dim>::bind(const ParticleStore<dim>& p, const VerletList<d
 
 namespace {
 
-// compute_batched reads the particle arrays as x, y, z triples.
+// compute_batched reads the particle arrays as x, y, z triples (x, y pairs and one ω in 2D).
 static_assert(sizeof(Vec<3>) == 3 * sizeof(double) && sizeof(RotVec<3>) == 3 * sizeof(double));
+static_assert(sizeof(Vec<2>) == 2 * sizeof(double) && sizeof(RotVec<2>) == sizeof(double));
 
 /// Evaluates listed pair (i, j) with the scalar contact law and adds its forces, torques and
 /// virial; `slot` is its contact in the store (inserted by the caller).
@@ -82,6 +83,70 @@ template <int dim>
     sums.max_overlap = std::max(sums.max_overlap, g.overlap / r_min);
 }
 
+/// The first pass of the batched gather over grain i's row, list entries [k0, k1): tests the
+/// distance of every listed j against R_i + R_j + range and writes the place in the row of
+/// each pair in range to `hits`, advancing the count by `in_range` (no branch to mispredict on
+/// the random contact/no-contact outcome); returns the count. The one branch, taken only when
+/// a contact opens or forms (rare, well predicted): a pair that left the range has its history
+/// reset (erased at the next compaction) and its slot cleared; one that entered it gets a
+/// history. A listed pair out of range then costs its distance test and one store (the loose
+/// phase, docs/performance.md).
+template <int dim>
+[[gnu::always_inline]] inline std::size_t
+pairs_in_range(System<dim>& sys, std::size_t i, std::size_t k0, std::size_t k1,
+               const std::uint32_t* nb, double range, std::ptrdiff_t* slots, std::uint32_t* hits) {
+  // Raw pointers (contiguous components per grain): the compiler then knows they do not move.
+  const double* pos = sys.particles.position.data()->data();
+  const double* radius = sys.particles.radius.data();
+  double L[dim], si[dim];
+  for (int a = 0; a < dim; ++a) {
+    L[a] = sys.cell.length[a];
+    si[a] = pos[dim * i + a];
+  }
+  const double ri = radius[i];
+  std::size_t m = 0;
+  for (std::size_t k = k0; k < k1; ++k) {
+    const std::size_t j = nb[k];
+    double r2;
+    if constexpr (dim == 3) {
+      const double rx = L[0] * (pos[3 * j] - si[0]), ry = L[1] * (pos[3 * j + 1] - si[1]),
+                   rz = L[2] * (pos[3 * j + 2] - si[2]);
+      r2 = rx * rx + ry * ry + rz * rz;
+    } else {
+      const double rx = L[0] * (pos[2 * j] - si[0]), ry = L[1] * (pos[2 * j + 1] - si[1]);
+      r2 = rx * rx + ry * ry;
+    }
+    const double reach = ri + radius[j] + range;
+    const bool in_range = r2 < reach * reach;
+    const std::ptrdiff_t slot = slots[k];
+    if (__builtin_expect(in_range != (slot >= 0), 0)) {
+      if (!in_range) {
+        sys.contacts.state(static_cast<std::size_t>(slot)) = ContactState<dim>{};
+        slots[k] = -1;
+      } else {
+        slots[k] = static_cast<std::ptrdiff_t>(sys.contacts.insert(
+            ContactKey{sys.particles.id[i], sys.particles.id[j]}, ContactState<dim>{}));
+      }
+    }
+    hits[m] = static_cast<std::uint32_t>(k - k0);
+    m += in_range ? 1 : 0;
+  }
+  return m;
+}
+
+/// Adds what a batched kernel summed over its lanes (virials row-major, dim x dim) to the
+/// loop's sums, which hold those of the lanes the scalar law evaluated.
+template <int dim, class BatchSums>
+void add_batch_sums(ForceSums<dim>& sums, const BatchSums& batch) {
+  for (int a = 0; a < dim; ++a)
+    for (int b = 0; b < dim; ++b) {
+      sums.virial(a, b) += batch.virial[dim * a + b];
+      sums.virial_elastic(a, b) += batch.virial_elastic[dim * a + b];
+    }
+  sums.max_overlap = std::max(sums.max_overlap, batch.max_overlap);
+  sums.interacting += batch.contacts;
+}
+
 } // namespace
 
 template <int dim>
@@ -89,6 +154,9 @@ ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList
                                               const ContactLaw<dim>& law, double dt) {
   if constexpr (dim == 3) {
     if (const auto c = HertzMindlinConstants::of(law))
+      return compute_batched(sys, list, law, *c, dt);
+  } else {
+    if (const auto c = DiskContactConstants::of(law))
       return compute_batched(sys, list, law, *c, dt);
   }
   auto& p = sys.particles;
@@ -178,14 +246,12 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const Ve
     n = 0;
   };
 
-  // Gathers the touching pairs, row by row in two passes. The first tests the distance of
-  // every listed pair of grain i and keeps the touching ones' positions in the row (each is
-  // written and the count advances by `touching`: no branch to mispredict on the random
-  // contact/no-contact outcome). The second fills one lane per touching pair. A listed pair
-  // that does not touch, most of them in a loose packing (a compression's gas, an aggregating
-  // [GRC] gas), then costs its distance test and one store instead of a lane's 21 stores and
-  // the loads of its velocities and history. Same lanes in the same order as a single pass,
-  // hence the same bits.
+  // Gathers the touching pairs, row by row in two passes. The first (pairs_in_range) tests the
+  // distance of every listed pair of grain i and keeps the touching ones' positions in the
+  // row. The second fills one lane per touching pair. A listed pair that does not touch, most
+  // of them in a loose packing (a compression's gas), then costs its distance test and one
+  // store instead of a lane's 21 stores and the loads of its velocities and history. Same
+  // lanes in the same order as a single pass, hence the same bits.
   const auto& off = list.offsets();
   const std::uint32_t* nb = list.neighbor_array().data();
   // Raw pointers (contiguous x, y, z per grain): the compiler then knows they do not move.
@@ -196,40 +262,18 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const Ve
   const double* mass = p.mass.data();
   std::ptrdiff_t* slots = slot_.data();
   const double Lx = L[0], Ly = L[1], Lz = L[2], Ldx = Ldot[0], Ldy = Ldot[1], Ldz = Ldot[2];
-  // Read only for touching pairs, which have a history by then (inserted in the first pass).
-  const ContactState<3>* states = sys.contacts.size() > 0 ? &sys.contacts.state(0) : nullptr;
   for (std::size_t i = 0; i < list.n_owned(); ++i) {
     const std::size_t k0 = off[i], k1 = off[i + 1];
     if (row_hits_.size() < k1 - k0)
       row_hits_.resize(k1 - k0);
     std::uint32_t* hits = row_hits_.data();
-    const double six = pos[3 * i], siy = pos[3 * i + 1], siz = pos[3 * i + 2];
-    const double ri = radius[i];
-    std::size_t m = 0;
-    for (std::size_t k = k0; k < k1; ++k) {
-      const std::size_t j = nb[k];
-      const double rx = Lx * (pos[3 * j] - six), ry = Ly * (pos[3 * j + 1] - siy),
-                   rz = Lz * (pos[3 * j + 2] - siz);
-      const double reach = ri + radius[j];
-      const bool touching = rx * rx + ry * ry + rz * rz < reach * reach;
-      const std::ptrdiff_t slot = slots[k];
-      // One branch, taken only when a contact opens or forms (rare, well predicted).
-      if (__builtin_expect(touching != (slot >= 0), 0)) {
-        if (!touching) {
-          // Out of reach: a contact that was there has ended; its history is forgotten.
-          sys.contacts.state(static_cast<std::size_t>(slot)) = ContactState<3>{};
-          slots[k] = -1; // (the entry is erased at the next compaction)
-        } else {
-          slots[k] = static_cast<std::ptrdiff_t>(
-              sys.contacts.insert(ContactKey{p.id[i], p.id[j]}, ContactState<3>{}));
-          states = &sys.contacts.state(0); // the store may have grown
-        }
-      }
-      hits[m] = static_cast<std::uint32_t>(k - k0);
-      m += touching ? 1 : 0;
-    }
+    const std::size_t m = pairs_in_range<3>(sys, i, k0, k1, nb, 0.0, slots, hits);
     if (m == 0)
       continue;
+    // Read only for touching pairs, which have a history by now (the store may have grown).
+    const ContactState<3>* states = &sys.contacts.state(0);
+    const double six = pos[3 * i], siy = pos[3 * i + 1], siz = pos[3 * i + 2];
+    const double ri = radius[i];
     const double vix = vel[3 * i], viy = vel[3 * i + 1], viz = vel[3 * i + 2];
     const double wix = spin[3 * i], wiy = spin[3 * i + 1], wiz = spin[3 * i + 2];
     const double mi = mass[i];
@@ -272,13 +316,118 @@ ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const Ve
     }
   }
   flush();
-  for (int a = 0; a < 3; ++a)
-    for (int bb = 0; bb < 3; ++bb) {
-      sums.virial(a, bb) += batch_sums.virial[3 * a + bb];
-      sums.virial_elastic(a, bb) += batch_sums.virial_elastic[3 * a + bb];
+  add_batch_sums(sums, batch_sums);
+  return sums;
+}
+
+template <int dim>
+ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const VerletList<dim>& list,
+                                                      const ContactLaw<dim>& law,
+                                                      const DiskContactConstants& c,
+                                                      double dt) requires(dim == 2) {
+  auto& p = sys.particles;
+  p.clear_forces();
+  ForceSums<dim> sums;
+  DiskContactSums batch_sums;
+  if (!disk_batch_)
+    disk_batch_ = std::make_unique<DiskContactBatch>();
+  DiskContactBatch& b = *disk_batch_;
+  constexpr std::size_t cap = DiskContactBatch::kCapacity;
+  std::array<std::uint32_t, cap> lane_i{}, lane_j{};
+  std::array<std::size_t, cap> lane_slot{};
+  std::size_t n = 0;
+  // Without rolling resistance the law leaves kRollingPlastic as it was (never set).
+  const std::uint32_t kept = c.rolling ? 0u : static_cast<std::uint32_t>(kRollingPlastic);
+
+  // As in 3D: evaluates the gathered lanes, then adds their forces and torques in lane
+  // (= list) order, the same order as the scalar loop.
+  auto flush = [&] {
+    if (n == 0)
+      return;
+    evaluate(c, b, n, dt, batch_sums);
+    double* force = p.force.data()->data();
+    double* torque = p.torque.data()->data();
+    ContactState<2>* states = &sys.contacts.state(0);
+    for (std::size_t l = 0; l < n; ++l) {
+      const std::size_t i = lane_i[l], j = lane_j[l];
+      if (b.exact[l]) {
+        const Vec<2> r_ij(b.rx[l], b.ry[l]);
+        scalar_pair<2>(sys, law, i, j, Vec<2>(p.position[j] - p.position[i]), r_ij, lane_slot[l],
+                       dt, sums);
+        continue;
+      }
+      ContactState<2>& st = states[lane_slot[l]];
+      const auto flags = static_cast<std::uint32_t>(b.flags[l]);
+      st.normal_force = b.n_old[l];
+      st.tangential_force = Vec<2>(b.tx[l], b.ty[l]);
+      st.rolling[0] = b.rolling[l];
+      st.flags = flags | ((flags & kDistant) ? 0u : st.flags & kept);
+      ++st.age;
+      force[2 * j] += b.fx[l];
+      force[2 * j + 1] += b.fy[l];
+      force[2 * i] -= b.fx[l];
+      force[2 * i + 1] -= b.fy[l];
+      torque[i] += b.ti[l];
+      torque[j] += b.tj[l];
     }
-  sums.max_overlap = std::max(sums.max_overlap, batch_sums.max_overlap);
-  sums.interacting += batch_sums.contacts;
+    n = 0;
+  };
+
+  // Two passes per row, as in 3D; the range includes the cohesion's D0, so that the lanes
+  // hold the distant interactions too.
+  const auto& off = list.offsets();
+  const std::uint32_t* nb = list.neighbor_array().data();
+  const double* pos = p.position.data()->data();
+  const double* vel = p.velocity.data()->data();
+  const double* spin = p.angular_velocity.data()->data();
+  const double* radius = p.radius.data();
+  const double* mass = p.mass.data();
+  std::ptrdiff_t* slots = slot_.data();
+  const double Lx = sys.cell.length[0], Ly = sys.cell.length[1];
+  const double Ldx = sys.cell.rate[0], Ldy = sys.cell.rate[1];
+  const double range = law.interaction_range();
+  for (std::size_t i = 0; i < list.n_owned(); ++i) {
+    const std::size_t k0 = off[i], k1 = off[i + 1];
+    if (row_hits_.size() < k1 - k0)
+      row_hits_.resize(k1 - k0);
+    std::uint32_t* hits = row_hits_.data();
+    const std::size_t m = pairs_in_range<2>(sys, i, k0, k1, nb, range, slots, hits);
+    if (m == 0)
+      continue;
+    const ContactState<2>* states = &sys.contacts.state(0);
+    const double six = pos[2 * i], siy = pos[2 * i + 1];
+    const double ri = radius[i], mi = mass[i];
+    const double vix = vel[2 * i], viy = vel[2 * i + 1], wi = spin[i];
+    for (std::size_t t = 0; t < m; ++t) {
+      const std::size_t k = k0 + hits[t];
+      const std::size_t j = nb[k];
+      const double dsx = pos[2 * j] - six, dsy = pos[2 * j + 1] - siy;
+      const std::size_t slot = static_cast<std::size_t>(slots[k]);
+      const ContactState<2>& st = states[slot];
+      __builtin_prefetch(&st + 8);
+      b.rx[n] = Lx * dsx;
+      b.ry[n] = Ly * dsy;
+      b.rad_i[n] = ri;
+      b.rad_j[n] = radius[j];
+      b.mass_i[n] = mi;
+      b.mass_j[n] = mass[j];
+      b.vx[n] = (vel[2 * j] + Ldx * dsx) - vix;
+      b.vy[n] = (vel[2 * j + 1] + Ldy * dsy) - viy;
+      b.wi[n] = wi;
+      b.wj[n] = spin[j];
+      b.tx[n] = st.tangential_force[0];
+      b.ty[n] = st.tangential_force[1];
+      b.n_old[n] = st.normal_force;
+      b.rolling[n] = st.rolling[0];
+      lane_i[n] = static_cast<std::uint32_t>(i);
+      lane_j[n] = static_cast<std::uint32_t>(j);
+      lane_slot[n] = slot;
+      if (++n == cap)
+        flush();
+    }
+  }
+  flush();
+  add_batch_sums(sums, batch_sums);
   return sums;
 }
 

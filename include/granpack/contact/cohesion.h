@@ -9,6 +9,12 @@
 
 namespace granpack {
 
+/// N^a = -F0 (1 - g/D0) across a gap 0 <= g < D0 ([GRC] eq. 4): Cohesion::force and the
+/// batched 2D kernel (dynamics/disk_contact_batch) share it.
+inline double attraction_across_gap(double f0, double d0, double gap) {
+  return -f0 * (1.0 - gap / d0);
+}
+
 struct Cohesion {
   double f0 = 0; ///< maximum attractive force F0
   double d0 = 0; ///< range D0 (largest gap with an attraction)
@@ -18,7 +24,7 @@ struct Cohesion {
     if (h > 0)
       return -f0;
     const double gap = -h;
-    return gap < d0 ? -f0 * (1.0 - gap / d0) : 0.0;
+    return gap < d0 ? attraction_across_gap(f0, d0, gap) : 0.0;
   }
   /// dN^a/dh: 0 in contact, -F0/D0 across a gap (the attraction weakens as the gap opens).
   double stiffness(double h) const {

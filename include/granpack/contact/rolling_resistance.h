@@ -21,6 +21,23 @@
 
 namespace granpack {
 
+// The formulas of the rolling sub-model, one inline function each: RollingResistance and the
+// batched 2D kernel (dynamics/disk_contact_batch) both call them.
+
+/// η_r = ζ_r 2 R* sqrt(m* K_r).
+inline double rolling_viscosity(double zeta_r, double k_r, double effective_mass,
+                                double effective_radius) {
+  return zeta_r * 2.0 * effective_radius * std::sqrt(effective_mass * k_r);
+}
+/// The threshold μ_r N^e on |K_r δθ| ([GRC] eq. 10; N^e alone, never negative).
+inline double rolling_limit(double mu_r, double normal_elastic) {
+  return mu_r * std::max(normal_elastic, 0.0);
+}
+/// |K_r δθ|² = m2 beyond the threshold (also for a NaN limit: μ_r = inf with N^e = 0).
+inline bool beyond_rolling_limit(double m2, double limit) {
+  return !(m2 <= limit * limit);
+}
+
 struct RollingResistance {
   double k_r = 0;     ///< rolling stiffness K_r (moment per radian)
   double mu_r = 0;    ///< rolling friction μ_r (a length): |Γ^r| <= μ_r N^e
@@ -28,7 +45,7 @@ struct RollingResistance {
 
   /// η_r = ζ_r 2 R* sqrt(m* K_r).
   double viscosity(double effective_mass, double effective_radius) const {
-    return damping * 2.0 * effective_radius * std::sqrt(effective_mass * k_r);
+    return rolling_viscosity(damping, k_r, effective_mass, effective_radius);
   }
 
   /// Adds the relative rotation increment d_theta to the elastic rotation theta, then
@@ -36,9 +53,9 @@ struct RollingResistance {
   template <int dim>
   bool update(RotVec<dim>& theta, const RotVec<dim>& d_theta, double normal_elastic) const {
     theta += d_theta;
-    const double limit = mu_r * std::max(normal_elastic, 0.0);
+    const double limit = rolling_limit(mu_r, normal_elastic);
     const double m2 = k_r * k_r * theta.squaredNorm();
-    if (m2 <= limit * limit)
+    if (!beyond_rolling_limit(m2, limit))
       return false;
     theta = limit > 0 ? RotVec<dim>(theta * (limit / std::sqrt(m2))) : RotVec<dim>::Zero();
     return true;

@@ -118,6 +118,17 @@ inline Xyz contact_rotation_3d(const Xyz& n, const Xyz& v, const Xyz& w_i, const
           (n.x * dny - n.y * dnx) + pivot * n.z};
 }
 
+/// 2D: the angle (about z) by which the contact region turns over one step, n x Δn with
+/// Δn = (1 - n⊗n) v dt/|r_ij| (v = v_j - v_i; no pivoting in 2D). ContactLaw<2> (through
+/// contact_rotation below) and the batched 2D kernel (dynamics/disk_contact_batch) call it.
+inline double contact_rotation_2d(double nx, double ny, double vx, double vy,
+                                  double dt_over_distance) {
+  const double vn = nx * vx + ny * vy;
+  const double dnx = (vx - vn * nx) * dt_over_distance;
+  const double dny = (vy - vn * ny) * dt_over_distance;
+  return nx * dny - ny * dnx;
+}
+
 /// Rotation vector of the contact region over one step, [AR] eqs. B2, B4, B5 in velocity form:
 /// rolling n x Δn with Δn = (1 - n⊗n)(v_j - v_i) dt/|r_ij| (v including the affine part of
 /// the cell deformation), plus in 3D pivoting ½ n·(ω_i + ω_j) dt n (contact_rotation_3d). In 2D
@@ -132,8 +143,9 @@ inline RotVec<dim> contact_rotation(const PairGeometry<dim>& g, const Vec<dim>& 
   } else {
     (void)w_i;
     (void)w_j;
-    const Vec<dim> dn = (v_ij - n.dot(v_ij) * n) * (dt / g.distance);
-    return moment<dim>(n, dn);
+    RotVec<2> angle;
+    angle[0] = contact_rotation_2d(n[0], n[1], v_ij[0], v_ij[1], dt / g.distance);
+    return angle;
   }
 }
 
@@ -165,6 +177,19 @@ inline Xyz rotate_onto_tangent_plane(const Xyz& t, const Xyz& theta, const Xyz& 
       cos_x * t.z + sin_x_over_x * (theta.x * t.y - theta.y * t.x) + theta_t * theta.z;
   const double rn = n.x * rx + n.y * ry + n.z * rz;
   return {rx - rn * n.x, ry - rn * n.y, rz - rn * n.z};
+}
+
+/// A 2D vector as two doubles: what a lane of the batched 2D kernel holds.
+struct Xy {
+  double x, y;
+};
+
+/// 2D: rotates t by the angle whose cosine and sine are c and s, then removes the component
+/// along n; as rotate_onto_tangent_plane, the magnitude is restored by the caller.
+inline Xy rotate_onto_tangent_line(const Xy& t, double c, double s, const Xy& n) {
+  const double rx = c * t.x - s * t.y, ry = s * t.x + c * t.y;
+  const double rn = n.x * rx + n.y * ry;
+  return {rx - rn * n.x, ry - rn * n.y};
 }
 
 /// Rotates t by the rotation vector theta (Rodrigues; in 2D an angle about z), then removes
@@ -205,8 +230,8 @@ inline Vec<dim> transport_tangential(const Vec<dim>& t, const RotVec<dim>& theta
       c = std::cos(x);
       s = std::sin(x);
     }
-    r = Vec<2>(c * t[0] - s * t[1], s * t[0] + c * t[1]);
-    r -= n.dot(r) * n;
+    const Xy rt = rotate_onto_tangent_line({t[0], t[1]}, c, s, {n[0], n[1]});
+    r = Vec<2>(rt.x, rt.y);
   }
   const double rn2 = r.squaredNorm();
   return rn2 > 0 ? Vec<dim>(r * std::sqrt(magnitude2 / rn2)) : Vec<dim>::Zero();

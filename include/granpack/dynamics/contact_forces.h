@@ -15,6 +15,7 @@
 
 #include "granpack/contact/contact_law.h"
 #include "granpack/core/system.h"
+#include "granpack/dynamics/disk_contact_batch.h"
 #include "granpack/dynamics/hertz_mindlin_batch.h"
 #include "granpack/neighbor/verlet_list.h"
 
@@ -59,10 +60,16 @@ private:
   ForceSums<dim> compute_batched(System<dim>& sys, const VerletList<dim>& list,
                                  const ContactLaw<dim>& law, const HertzMindlinConstants& c,
                                  double dt) requires(dim == 3);
+  /// The same for the 2D laws DiskContactBatch evaluates ([GRC]'s, cohesion and rolling
+  /// resistance included): the pairs in range (touching, or across a gap shorter than D0).
+  ForceSums<dim> compute_batched(System<dim>& sys, const VerletList<dim>& list,
+                                 const ContactLaw<dim>& law, const DiskContactConstants& c,
+                                 double dt) requires(dim == 2);
 
   std::vector<std::ptrdiff_t> slot_;         ///< per listed pair: index in the ContactStore or -1
   std::unique_ptr<HertzMindlinBatch> batch_; ///< scratch of compute_batched (~40 kB)
-  std::vector<std::uint32_t> row_hits_; ///< scratch of compute_batched: one row's touching pairs
+  std::unique_ptr<DiskContactBatch> disk_batch_; ///< scratch of the 2D compute_batched (~26 kB)
+  std::vector<std::uint32_t> row_hits_; ///< scratch of compute_batched: one row's pairs in range
 };
 
 template <int dim>

@@ -1,0 +1,71 @@
+#pragma once
+// The 2D contact law of [GRC] (linear or Hertz normal force, normal damping, K_T ∝ K_N,
+// Coulomb friction, and optionally the cohesion F0, D0 with its distant interactions and the
+// rolling resistance K_r, μ_r, ζ_r) evaluated on a batch of contacts at once, in structure of
+// arrays, so that the compiler evaluates 4 or 8 contacts per instruction: the 2D counterpart
+// of dynamics/hertz_mindlin_batch (docs/performance.md).
+//
+// It computes what ContactLaw<2>::force computes (same formulas, called from the same inline
+// functions of contact/*.h; the results differ only by rounding: one reciprocal for several
+// divisions, fused multiply-adds) on the path of an MD run: a touching pair whose contact turns
+// by less than 1e-3 rad in the step and, for Hertz with Walton's rescaling, whose N^e drops by
+// less than 0.1 %, or a cohesive pair across a gap shorter than D0. A pair off that path (a
+// fast first touch, a pair out of range by rounding) is flagged `exact` and the caller
+// evaluates it with ContactLaw<2>::force from its untouched history. MPI-free.
+#include <cstddef>
+#include <optional>
+
+#include "granpack/contact/contact_law.h"
+
+namespace granpack {
+
+/// The constants of a 2D law the batch kernel needs.
+struct DiskContactConstants {
+  double e_tilde = 0;                   ///< Hertz Ẽ (linear_k_n = 0) ...
+  double linear_k_n = 0;                ///< ... or a linear spring K_N (e_tilde = 0)
+  double zeta = 0;                      ///< damping fraction ζ
+  bool tension = true;                  ///< N^e + N^v may pull (NormalDamping::tension)
+  double k_t_ratio = 0;                 ///< K_T / K_N
+  bool walton = true;                   ///< Walton rescaling of T when N^e decreases
+  double mu = 0;                        ///< Coulomb coefficient (may be +inf)
+  double f0 = 0, d0 = 0;                ///< cohesion F0, D0 (both 0: none)
+  bool rolling = false;                 ///< rolling resistance (K_r > 0)
+  double k_r = 0, mu_r = 0, zeta_r = 0; ///< K_r, μ_r (may be +inf), ζ_r
+
+  /// The constants of `law` if the batch can evaluate it (K_T proportional to K_N: the other
+  /// laws go to the scalar loop).
+  static std::optional<DiskContactConstants> of(const ContactLaw<2>& law);
+};
+
+/// One batch of pairs: inputs gathered by the caller, outputs written by evaluate().
+/// Field arrays are 64-byte aligned; evaluate() pads the lanes past the count itself.
+struct alignas(64) DiskContactBatch {
+  static constexpr std::size_t kCapacity = 128; ///< a multiple of every SIMD width
+  template <class T> using Lane = T[kCapacity];
+
+  // Inputs. r = r_ij (i -> j); v = v_j - v_i including the cell's affine velocity; ω about z.
+  Lane<double> rx, ry, rad_i, rad_j, mass_i, mass_j;
+  Lane<double> vx, vy, wi, wj;
+  // The stored history, updated in place: T, N^e, rolling rotation δθ.
+  Lane<double> tx, ty, n_old, rolling;
+  // Outputs.
+  Lane<double> fx, fy; ///< force on j: N n + T (N = N^e + N^v + N^a), or N^a n across a gap
+  Lane<double> ti, tj; ///< torques on i and j, rolling moments included
+  Lane<int> flags;     ///< ContactFlag bits of the new state (kSliding, kRollingPlastic, kDistant)
+  Lane<int> exact;     ///< 1: off the batch's path, use ContactLaw::force
+};
+
+/// What evaluate() sums over the lanes it handles (those not flagged `exact`).
+struct DiskContactSums {
+  double virial[4] = {};         ///< sum of F ⊗ r (row-major: F_a r_b at [2a + b])
+  double virial_elastic[4] = {}; ///< the same with the static force (N^e + N^a) n + T
+  double max_overlap = 0;        ///< largest h / min(R_i, R_j)
+  long contacts = 0;             ///< lanes evaluated (contacts and distant interactions)
+};
+
+/// Evaluates lanes [0, n) over a time step dt (padding them to a multiple of 8 internally)
+/// and adds their virials, largest overlap and count to `sums`.
+void evaluate(const DiskContactConstants& c, DiskContactBatch& b, std::size_t n, double dt,
+              DiskContactSums& sums);
+
+} // namespace granpack
