@@ -147,17 +147,170 @@ void add_batch_sums(ForceSums<dim>& sums, const BatchSums& batch) {
   sums.interacting += batch.contacts;
 }
 
+/// What compute_batched gathers from: the particle arrays as raw pointers (contiguous
+/// components per grain) and the cell's length and rate, copied into members of a local
+/// object, so that the compiler knows the lane stores change none of them.
+template <int dim> struct GatherArrays {
+  const double *pos, *vel, *spin, *radius, *mass;
+  double L[dim], Ldot[dim];
+
+  GatherArrays(const System<dim>& sys)
+      : pos(sys.particles.position.data()->data()), vel(sys.particles.velocity.data()->data()),
+        spin(sys.particles.angular_velocity.data()->data()), radius(sys.particles.radius.data()),
+        mass(sys.particles.mass.data()) {
+    for (int a = 0; a < dim; ++a) {
+      L[a] = sys.cell.length[a];
+      Ldot[a] = sys.cell.rate[a];
+    }
+  }
+};
+
+/// What compute_batched does differently for HertzMindlinBatch (3D, touching pairs only): how
+/// a lane is filled from a pair and its history, and how its results go back.
+struct HertzMindlinLanes {
+  using Batch = HertzMindlinBatch;
+  using Sums = HertzMindlinSums;
+  static constexpr int dim = 3;
+  const HertzMindlinConstants& c;
+
+  double range(const ContactLaw<3>&) const { return 0.0; }
+  void evaluate(Batch& b, std::size_t n, double dt, Sums& sums) const {
+    granpack::evaluate(c, b, n, dt, sums);
+  }
+  static Vec<3> r_ij(const Batch& b, std::size_t l) { return {b.rx[l], b.ry[l], b.rz[l]}; }
+
+  /// Grain i's values, loaded once per row; fill() writes lane n for the pair (i, j).
+  struct Row {
+    const GatherArrays<3> a;
+    double six, siy, siz, ri, vix, viy, viz, wix, wiy, wiz, mi;
+    Row(const System<3>& sys, std::size_t i)
+        : a(sys), six(a.pos[3 * i]), siy(a.pos[3 * i + 1]), siz(a.pos[3 * i + 2]), ri(a.radius[i]),
+          vix(a.vel[3 * i]), viy(a.vel[3 * i + 1]), viz(a.vel[3 * i + 2]), wix(a.spin[3 * i]),
+          wiy(a.spin[3 * i + 1]), wiz(a.spin[3 * i + 2]), mi(a.mass[i]) {}
+    void fill(Batch& b, std::size_t n, std::size_t j, const ContactState<3>& st) const {
+      // The same arithmetic as pairs_in_range: the same r_ij.
+      const double dsx = a.pos[3 * j] - six, dsy = a.pos[3 * j + 1] - siy,
+                   dsz = a.pos[3 * j + 2] - siz;
+      b.rx[n] = a.L[0] * dsx;
+      b.ry[n] = a.L[1] * dsy;
+      b.rz[n] = a.L[2] * dsz;
+      b.rad_i[n] = ri;
+      b.rad_j[n] = a.radius[j];
+      b.mass_i[n] = mi;
+      b.mass_j[n] = a.mass[j];
+      // Relative velocity, with the affine part of the cell deformation Ldot (s_j - s_i).
+      b.vx[n] = (a.vel[3 * j] + a.Ldot[0] * dsx) - vix;
+      b.vy[n] = (a.vel[3 * j + 1] + a.Ldot[1] * dsy) - viy;
+      b.vz[n] = (a.vel[3 * j + 2] + a.Ldot[2] * dsz) - viz;
+      b.wix[n] = wix;
+      b.wiy[n] = wiy;
+      b.wiz[n] = wiz;
+      b.wjx[n] = a.spin[3 * j];
+      b.wjy[n] = a.spin[3 * j + 1];
+      b.wjz[n] = a.spin[3 * j + 2];
+      b.tx[n] = st.tangential_force[0];
+      b.ty[n] = st.tangential_force[1];
+      b.tz[n] = st.tangential_force[2];
+      b.n_old[n] = st.normal_force;
+    }
+  };
+
+  /// Writes lane l's new history to `st` and adds its forces and torques to i and j.
+  void scatter(const Batch& b, std::size_t l, ContactState<3>& st, std::size_t i, std::size_t j,
+               double* force, double* torque) const {
+    st.normal_force = b.n_old[l];
+    st.tangential_force = Vec<3>(b.tx[l], b.ty[l], b.tz[l]);
+    st.flags = (st.flags & ~static_cast<std::uint32_t>(kSliding | kDistant)) |
+               (b.sliding[l] ? static_cast<std::uint32_t>(kSliding) : 0u);
+    ++st.age;
+    const double f[3] = {b.fx[l], b.fy[l], b.fz[l]};
+    const double tj[3] = {b.tjx[l], b.tjy[l], b.tjz[l]};
+    const double tq[3] = {b.tix[l], b.tiy[l], b.tiz[l]};
+    for (int a = 0; a < 3; ++a) {
+      force[3 * j + a] += f[a];
+      force[3 * i + a] -= f[a];
+      torque[3 * i + a] += tq[a];
+      torque[3 * j + a] += tj[a];
+    }
+  }
+};
+
+/// The same for DiskContactBatch (2D [GRC] law): the pairs in range include those across a
+/// gap shorter than the cohesion's D0, and the history holds the rolling rotation too.
+struct DiskContactLanes {
+  using Batch = DiskContactBatch;
+  using Sums = DiskContactSums;
+  static constexpr int dim = 2;
+  const DiskContactConstants& c;
+  /// The flags a contact keeps from its history: without rolling resistance the law leaves
+  /// kRollingPlastic as it was (never set).
+  const std::uint32_t kept = c.rolling ? 0u : static_cast<std::uint32_t>(kRollingPlastic);
+
+  double range(const ContactLaw<2>& law) const { return law.interaction_range(); }
+  void evaluate(Batch& b, std::size_t n, double dt, Sums& sums) const {
+    granpack::evaluate(c, b, n, dt, sums);
+  }
+  static Vec<2> r_ij(const Batch& b, std::size_t l) { return {b.rx[l], b.ry[l]}; }
+
+  struct Row {
+    const GatherArrays<2> a;
+    double six, siy, ri, mi, vix, viy, wi;
+    Row(const System<2>& sys, std::size_t i)
+        : a(sys), six(a.pos[2 * i]), siy(a.pos[2 * i + 1]), ri(a.radius[i]), mi(a.mass[i]),
+          vix(a.vel[2 * i]), viy(a.vel[2 * i + 1]), wi(a.spin[i]) {}
+    void fill(Batch& b, std::size_t n, std::size_t j, const ContactState<2>& st) const {
+      const double dsx = a.pos[2 * j] - six, dsy = a.pos[2 * j + 1] - siy;
+      b.rx[n] = a.L[0] * dsx;
+      b.ry[n] = a.L[1] * dsy;
+      b.rad_i[n] = ri;
+      b.rad_j[n] = a.radius[j];
+      b.mass_i[n] = mi;
+      b.mass_j[n] = a.mass[j];
+      b.vx[n] = (a.vel[2 * j] + a.Ldot[0] * dsx) - vix;
+      b.vy[n] = (a.vel[2 * j + 1] + a.Ldot[1] * dsy) - viy;
+      b.wi[n] = wi;
+      b.wj[n] = a.spin[j];
+      b.tx[n] = st.tangential_force[0];
+      b.ty[n] = st.tangential_force[1];
+      b.n_old[n] = st.normal_force;
+      b.rolling[n] = st.rolling[0];
+    }
+  };
+
+  void scatter(const Batch& b, std::size_t l, ContactState<2>& st, std::size_t i, std::size_t j,
+               double* force, double* torque) const {
+    const auto flags = static_cast<std::uint32_t>(b.flags[l]);
+    st.normal_force = b.n_old[l];
+    st.tangential_force = Vec<2>(b.tx[l], b.ty[l]);
+    st.rolling[0] = b.rolling[l];
+    st.flags = flags | ((flags & kDistant) ? 0u : st.flags & kept);
+    ++st.age;
+    force[2 * j] += b.fx[l];
+    force[2 * j + 1] += b.fy[l];
+    force[2 * i] -= b.fx[l];
+    force[2 * i + 1] -= b.fy[l];
+    torque[i] += b.ti[l];
+    torque[j] += b.tj[l];
+  }
+};
+
 } // namespace
 
 template <int dim>
 ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList<dim>& list,
                                               const ContactLaw<dim>& law, double dt) {
   if constexpr (dim == 3) {
-    if (const auto c = HertzMindlinConstants::of(law))
-      return compute_batched(sys, list, law, *c, dt);
+    if (const auto c = HertzMindlinConstants::of(law)) {
+      if (!batch_)
+        batch_ = std::make_unique<HertzMindlinBatch>();
+      return compute_batched(sys, list, law, HertzMindlinLanes{*c}, *batch_, dt);
+    }
   } else {
-    if (const auto c = DiskContactConstants::of(law))
-      return compute_batched(sys, list, law, *c, dt);
+    if (const auto c = DiskContactConstants::of(law)) {
+      if (!disk_batch_)
+        disk_batch_ = std::make_unique<DiskContactBatch>();
+      return compute_batched(sys, list, law, DiskContactLanes{*c}, *disk_batch_, dt);
+    }
   }
   auto& p = sys.particles;
   p.clear_forces();
@@ -190,235 +343,75 @@ ForceSums<dim> ContactForceLoop<dim>::compute(System<dim>& sys, const VerletList
 }
 
 template <int dim>
+template <class Lanes>
 ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const VerletList<dim>& list,
                                                       const ContactLaw<dim>& law,
-                                                      const HertzMindlinConstants& c,
-                                                      double dt) requires(dim == 3) {
+                                                      const Lanes& lanes, typename Lanes::Batch& b,
+                                                      double dt) {
+  static_assert(Lanes::dim == dim);
   auto& p = sys.particles;
   p.clear_forces();
   ForceSums<dim> sums;
-  HertzMindlinSums batch_sums;
-  if (!batch_)
-    batch_ = std::make_unique<HertzMindlinBatch>();
-  HertzMindlinBatch& b = *batch_;
-  constexpr std::size_t cap = HertzMindlinBatch::kCapacity;
+  typename Lanes::Sums batch_sums;
+  constexpr std::size_t cap = Lanes::Batch::kCapacity;
   std::array<std::uint32_t, cap> lane_i{}, lane_j{};
   std::array<std::size_t, cap> lane_slot{};
   std::size_t n = 0;
-  const Vec<3> L = sys.cell.length;
-  const Vec<3> Ldot = sys.cell.rate;
 
   // Evaluates the gathered lanes, then adds their forces and torques in lane (= list) order,
   // the same order as the scalar loop.
   auto flush = [&] {
     if (n == 0)
       return;
-    evaluate(c, b, n, dt, batch_sums);
+    lanes.evaluate(b, n, dt, batch_sums);
     // Raw pointers: the compiler then knows the arrays do not move during the loop.
     double* force = p.force.data()->data();
     double* torque = p.torque.data()->data();
-    ContactState<3>* states = &sys.contacts.state(0);
+    ContactState<dim>* states = &sys.contacts.state(0);
     for (std::size_t l = 0; l < n; ++l) {
       const std::size_t i = lane_i[l], j = lane_j[l];
       if (b.exact[l]) {
         // Off the batch's path: the scalar law, from the untouched stored state.
-        const Vec<3> r_ij(b.rx[l], b.ry[l], b.rz[l]);
-        scalar_pair<3>(sys, law, i, j, Vec<3>(p.position[j] - p.position[i]), r_ij, lane_slot[l],
-                       dt, sums);
+        scalar_pair<dim>(sys, law, i, j, Vec<dim>(p.position[j] - p.position[i]), Lanes::r_ij(b, l),
+                         lane_slot[l], dt, sums);
         continue;
       }
-      ContactState<3>& st = states[lane_slot[l]];
-      st.normal_force = b.n_old[l];
-      st.tangential_force = Vec<3>(b.tx[l], b.ty[l], b.tz[l]);
-      st.flags = (st.flags & ~static_cast<std::uint32_t>(kSliding | kDistant)) |
-                 (b.sliding[l] ? static_cast<std::uint32_t>(kSliding) : 0u);
-      ++st.age;
-      const double f[3] = {b.fx[l], b.fy[l], b.fz[l]};
-      const double tj[3] = {b.tjx[l], b.tjy[l], b.tjz[l]};
-      const double tq[3] = {b.tix[l], b.tiy[l], b.tiz[l]};
-      for (int a = 0; a < 3; ++a) {
-        force[3 * j + a] += f[a];
-        force[3 * i + a] -= f[a];
-        torque[3 * i + a] += tq[a];
-        torque[3 * j + a] += tj[a];
-      }
+      lanes.scatter(b, l, states[lane_slot[l]], i, j, force, torque);
     }
     n = 0;
   };
 
-  // Gathers the touching pairs, row by row in two passes. The first (pairs_in_range) tests the
-  // distance of every listed pair of grain i and keeps the touching ones' positions in the
-  // row. The second fills one lane per touching pair. A listed pair that does not touch, most
-  // of them in a loose packing (a compression's gas), then costs its distance test and one
-  // store instead of a lane's 21 stores and the loads of its velocities and history. Same
-  // lanes in the same order as a single pass, hence the same bits.
+  // Gathers the pairs in range, row by row in two passes. The first (pairs_in_range) tests the
+  // distance of every listed pair of grain i and keeps the place in the row of those in range
+  // (touching, or in 2D across a gap shorter than the cohesion's D0). The second fills one
+  // lane per pair in range. A listed pair out of range, most of them in a loose packing (a
+  // compression's gas), then costs its distance test and one store instead of a lane's ~20
+  // stores and the loads of its velocities and history. Same lanes in the same order as a
+  // single pass, hence the same bits.
   const auto& off = list.offsets();
   const std::uint32_t* nb = list.neighbor_array().data();
-  // Raw pointers (contiguous x, y, z per grain): the compiler then knows they do not move.
-  const double* pos = p.position.data()->data();
-  const double* vel = p.velocity.data()->data();
-  const double* spin = p.angular_velocity.data()->data();
-  const double* radius = p.radius.data();
-  const double* mass = p.mass.data();
   std::ptrdiff_t* slots = slot_.data();
-  const double Lx = L[0], Ly = L[1], Lz = L[2], Ldx = Ldot[0], Ldy = Ldot[1], Ldz = Ldot[2];
+  const double range = lanes.range(law);
   for (std::size_t i = 0; i < list.n_owned(); ++i) {
     const std::size_t k0 = off[i], k1 = off[i + 1];
     if (row_hits_.size() < k1 - k0)
       row_hits_.resize(k1 - k0);
     std::uint32_t* hits = row_hits_.data();
-    const std::size_t m = pairs_in_range<3>(sys, i, k0, k1, nb, 0.0, slots, hits);
+    const std::size_t m = pairs_in_range<dim>(sys, i, k0, k1, nb, range, slots, hits);
     if (m == 0)
       continue;
-    // Read only for touching pairs, which have a history by now (the store may have grown).
-    const ContactState<3>* states = &sys.contacts.state(0);
-    const double six = pos[3 * i], siy = pos[3 * i + 1], siz = pos[3 * i + 2];
-    const double ri = radius[i];
-    const double vix = vel[3 * i], viy = vel[3 * i + 1], viz = vel[3 * i + 2];
-    const double wix = spin[3 * i], wiy = spin[3 * i + 1], wiz = spin[3 * i + 2];
-    const double mi = mass[i];
+    // Read only for pairs in range, which have a history by now (the store may have grown).
+    const ContactState<dim>* states = &sys.contacts.state(0);
+    const typename Lanes::Row row(sys, i);
     for (std::size_t t = 0; t < m; ++t) {
       const std::size_t k = k0 + hits[t];
       const std::size_t j = nb[k];
-      // The same arithmetic as the first pass: the same r_ij.
-      const double dsx = pos[3 * j] - six, dsy = pos[3 * j + 1] - siy, dsz = pos[3 * j + 2] - siz;
       const std::size_t slot = static_cast<std::size_t>(slots[k]);
-      const ContactState<3>& st = states[slot];
+      const ContactState<dim>& st = states[slot];
       // The histories lie in list order (bind()): fetch a few contacts ahead, which the
       // hardware prefetcher, busy with the batch's streams, does not always do.
       __builtin_prefetch(&st + 8);
-      b.rx[n] = Lx * dsx;
-      b.ry[n] = Ly * dsy;
-      b.rz[n] = Lz * dsz;
-      b.rad_i[n] = ri;
-      b.rad_j[n] = radius[j];
-      b.mass_i[n] = mi;
-      b.mass_j[n] = mass[j];
-      // Relative velocity, with the affine part of the cell deformation Ldot (s_j - s_i).
-      b.vx[n] = (vel[3 * j] + Ldx * dsx) - vix;
-      b.vy[n] = (vel[3 * j + 1] + Ldy * dsy) - viy;
-      b.vz[n] = (vel[3 * j + 2] + Ldz * dsz) - viz;
-      b.wix[n] = wix;
-      b.wiy[n] = wiy;
-      b.wiz[n] = wiz;
-      b.wjx[n] = spin[3 * j];
-      b.wjy[n] = spin[3 * j + 1];
-      b.wjz[n] = spin[3 * j + 2];
-      b.tx[n] = st.tangential_force[0];
-      b.ty[n] = st.tangential_force[1];
-      b.tz[n] = st.tangential_force[2];
-      b.n_old[n] = st.normal_force;
-      lane_i[n] = static_cast<std::uint32_t>(i);
-      lane_j[n] = static_cast<std::uint32_t>(j);
-      lane_slot[n] = slot;
-      if (++n == cap)
-        flush();
-    }
-  }
-  flush();
-  add_batch_sums(sums, batch_sums);
-  return sums;
-}
-
-template <int dim>
-ForceSums<dim> ContactForceLoop<dim>::compute_batched(System<dim>& sys, const VerletList<dim>& list,
-                                                      const ContactLaw<dim>& law,
-                                                      const DiskContactConstants& c,
-                                                      double dt) requires(dim == 2) {
-  auto& p = sys.particles;
-  p.clear_forces();
-  ForceSums<dim> sums;
-  DiskContactSums batch_sums;
-  if (!disk_batch_)
-    disk_batch_ = std::make_unique<DiskContactBatch>();
-  DiskContactBatch& b = *disk_batch_;
-  constexpr std::size_t cap = DiskContactBatch::kCapacity;
-  std::array<std::uint32_t, cap> lane_i{}, lane_j{};
-  std::array<std::size_t, cap> lane_slot{};
-  std::size_t n = 0;
-  // Without rolling resistance the law leaves kRollingPlastic as it was (never set).
-  const std::uint32_t kept = c.rolling ? 0u : static_cast<std::uint32_t>(kRollingPlastic);
-
-  // As in 3D: evaluates the gathered lanes, then adds their forces and torques in lane
-  // (= list) order, the same order as the scalar loop.
-  auto flush = [&] {
-    if (n == 0)
-      return;
-    evaluate(c, b, n, dt, batch_sums);
-    double* force = p.force.data()->data();
-    double* torque = p.torque.data()->data();
-    ContactState<2>* states = &sys.contacts.state(0);
-    for (std::size_t l = 0; l < n; ++l) {
-      const std::size_t i = lane_i[l], j = lane_j[l];
-      if (b.exact[l]) {
-        const Vec<2> r_ij(b.rx[l], b.ry[l]);
-        scalar_pair<2>(sys, law, i, j, Vec<2>(p.position[j] - p.position[i]), r_ij, lane_slot[l],
-                       dt, sums);
-        continue;
-      }
-      ContactState<2>& st = states[lane_slot[l]];
-      const auto flags = static_cast<std::uint32_t>(b.flags[l]);
-      st.normal_force = b.n_old[l];
-      st.tangential_force = Vec<2>(b.tx[l], b.ty[l]);
-      st.rolling[0] = b.rolling[l];
-      st.flags = flags | ((flags & kDistant) ? 0u : st.flags & kept);
-      ++st.age;
-      force[2 * j] += b.fx[l];
-      force[2 * j + 1] += b.fy[l];
-      force[2 * i] -= b.fx[l];
-      force[2 * i + 1] -= b.fy[l];
-      torque[i] += b.ti[l];
-      torque[j] += b.tj[l];
-    }
-    n = 0;
-  };
-
-  // Two passes per row, as in 3D; the range includes the cohesion's D0, so that the lanes
-  // hold the distant interactions too.
-  const auto& off = list.offsets();
-  const std::uint32_t* nb = list.neighbor_array().data();
-  const double* pos = p.position.data()->data();
-  const double* vel = p.velocity.data()->data();
-  const double* spin = p.angular_velocity.data()->data();
-  const double* radius = p.radius.data();
-  const double* mass = p.mass.data();
-  std::ptrdiff_t* slots = slot_.data();
-  const double Lx = sys.cell.length[0], Ly = sys.cell.length[1];
-  const double Ldx = sys.cell.rate[0], Ldy = sys.cell.rate[1];
-  const double range = law.interaction_range();
-  for (std::size_t i = 0; i < list.n_owned(); ++i) {
-    const std::size_t k0 = off[i], k1 = off[i + 1];
-    if (row_hits_.size() < k1 - k0)
-      row_hits_.resize(k1 - k0);
-    std::uint32_t* hits = row_hits_.data();
-    const std::size_t m = pairs_in_range<2>(sys, i, k0, k1, nb, range, slots, hits);
-    if (m == 0)
-      continue;
-    const ContactState<2>* states = &sys.contacts.state(0);
-    const double six = pos[2 * i], siy = pos[2 * i + 1];
-    const double ri = radius[i], mi = mass[i];
-    const double vix = vel[2 * i], viy = vel[2 * i + 1], wi = spin[i];
-    for (std::size_t t = 0; t < m; ++t) {
-      const std::size_t k = k0 + hits[t];
-      const std::size_t j = nb[k];
-      const double dsx = pos[2 * j] - six, dsy = pos[2 * j + 1] - siy;
-      const std::size_t slot = static_cast<std::size_t>(slots[k]);
-      const ContactState<2>& st = states[slot];
-      __builtin_prefetch(&st + 8);
-      b.rx[n] = Lx * dsx;
-      b.ry[n] = Ly * dsy;
-      b.rad_i[n] = ri;
-      b.rad_j[n] = radius[j];
-      b.mass_i[n] = mi;
-      b.mass_j[n] = mass[j];
-      b.vx[n] = (vel[2 * j] + Ldx * dsx) - vix;
-      b.vy[n] = (vel[2 * j + 1] + Ldy * dsy) - viy;
-      b.wi[n] = wi;
-      b.wj[n] = spin[j];
-      b.tx[n] = st.tangential_force[0];
-      b.ty[n] = st.tangential_force[1];
-      b.n_old[n] = st.normal_force;
-      b.rolling[n] = st.rolling[0];
+      row.fill(b, n, j, st);
       lane_i[n] = static_cast<std::uint32_t>(i);
       lane_j[n] = static_cast<std::uint32_t>(j);
       lane_slot[n] = slot;

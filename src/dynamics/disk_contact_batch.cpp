@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <variant>
 
 #include "granpack/core/error.h"
 #include "granpack/core/simd_clones.h"
@@ -10,18 +9,10 @@
 namespace granpack {
 
 std::optional<DiskContactConstants> DiskContactConstants::of(const ContactLaw<2>& law) {
-  if (!law.tangential.proportional_to_normal())
+  const auto base = BatchLawConstants::of(law);
+  if (!base)
     return std::nullopt;
-  DiskContactConstants c;
-  if (const auto* hz = std::get_if<HertzNormal>(&law.normal))
-    c.e_tilde = hz->e_tilde;
-  else
-    c.linear_k_n = std::get<LinearNormal>(law.normal).k_n;
-  c.zeta = law.damping.zeta;
-  c.tension = law.damping.tension;
-  c.k_t_ratio = law.tangential.value;
-  c.walton = law.tangential.walton_rescaling;
-  c.mu = law.friction.mu;
+  DiskContactConstants c{*base};
   if (law.cohesion) {
     c.f0 = law.cohesion->f0;
     c.d0 = law.cohesion->d0;
@@ -47,16 +38,9 @@ namespace {
 GRANPACK_SIMD_CLONES
 void evaluate_lanes(const DiskContactConstants& c, DiskContactBatch& b, std::size_t n,
                     std::size_t n_valid, double dt, DiskContactSums& out) {
-  // Uniform choices become arithmetic: K_N = Ẽ sqrt(R* h) + K_lin (one of the two is zero),
-  // N^e = (2/3 or 1) K_N h; ζ = 0 gives a zero damping coefficient; μ = +inf never slides;
-  // without rolling resistance δθ stays 0 (K_r = μ_r = 0 and a zero increment).
-  const bool hertz = c.e_tilde > 0;
-  const double e_tilde = c.e_tilde, k_lin = hertz ? 0.0 : c.linear_k_n;
-  const double n_factor = hertz ? kHertzForceFactor : kLinearForceFactor;
-  const double two_zeta = 2.0 * c.zeta;
-  const bool tension = c.tension;
-  const double k_t_ratio = c.k_t_ratio, mu = c.mu;
-  const bool walton = c.walton && hertz; // the linear law's stiffness ratio is 1
+  // The law's uniform choices as arithmetic (no control flow in the loop body); without
+  // rolling resistance δθ stays 0 (K_r = μ_r = 0 and a zero increment).
+  const BatchLawTerms law(c);
   const bool cohesive = c.d0 > 0;
   const double f0 = c.f0, d0 = cohesive ? c.d0 : 1.0; // (1: no 0/0 in the unused select)
   const double n_attractive = cohesive ? -f0 : 0.0;   // N^a in contact
@@ -100,9 +84,9 @@ void evaluate_lanes(const DiskContactConstants& c, DiskContactBatch& b, std::siz
     const double dtx = dvx - dv_n * nx, dty = dvy - dv_n * ny;
 
     // Normal elasticity and damping.
-    const double k_n = hertz_stiffness(e_tilde, r_eff, hp) + k_lin;
-    const double n_el = normal_elastic_force(n_factor, k_n, hp);
-    const double n_visc = viscous_coefficient(two_zeta, m_eff, k_n) * h_dot;
+    const double k_n = hertz_stiffness(law.e_tilde, r_eff, hp) + law.k_lin;
+    const double n_el = normal_elastic_force(law.n_factor, k_n, hp);
+    const double n_visc = viscous_coefficient(law.two_zeta, m_eff, k_n) * h_dot;
 
     // Transport of T by the contact's rotation (as transport_tangential, small angles only).
     const double angle = contact_rotation_2d(nx, ny, vx, vy, dt * inv_d);
@@ -120,7 +104,7 @@ void evaluate_lanes(const DiskContactConstants& c, DiskContactBatch& b, std::siz
 
     // Walton (Hertz only): N^e decreased, T scaled by (N/N_old)^{1/3}.
     const double n_old = b.n_old[l];
-    const bool unloading = walton & (n_el < n_old);
+    const bool unloading = law.walton & (n_el < n_old);
     const double xw = relative_load_change(n_el, unloading ? n_old : 1.0);
     const double ratio = n_el > 0 ? cbrt_one_plus_series(xw) : 0.0;
     const double scale = unloading ? ratio : 1.0;
@@ -128,10 +112,10 @@ void evaluate_lanes(const DiskContactConstants& c, DiskContactBatch& b, std::siz
     ty *= scale;
 
     // Elastic increment, then Coulomb on N^e.
-    const double kdt = proportional_tangential_stiffness(k_t_ratio, k_n) * dt;
+    const double kdt = proportional_tangential_stiffness(law.k_t_ratio, k_n) * dt;
     tx -= kdt * dtx;
     ty -= kdt * dty;
-    const double limit = coulomb_limit(mu, n_el);
+    const double limit = coulomb_limit(law.mu, n_el);
     const double t2 = tx * tx + ty * ty;
     const bool slide = beyond_coulomb(t2, limit);
     const double cut_any = coulomb_scale(limit, t2 > 0 ? t2 : 1.0);
@@ -140,7 +124,7 @@ void evaluate_lanes(const DiskContactConstants& c, DiskContactBatch& b, std::siz
     ty = slide ? ty * cut : ty;
 
     // Forces and moments of the contact.
-    const double n_tot = applied_elastic_viscous_force(n_el + n_visc, tension) + n_attractive;
+    const double n_tot = applied_elastic_viscous_force(n_el + n_visc, law.tension) + n_attractive;
     double fx = n_tot * nx + tx, fy = n_tot * ny + ty;
     double tq_j = bjx * fy - bjy * fx;
     double tq_i = bix * -fy - biy * -fx;

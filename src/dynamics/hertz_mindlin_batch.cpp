@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <variant>
 
 #include "granpack/core/error.h"
 #include "granpack/core/simd_clones.h"
@@ -10,19 +9,12 @@
 namespace granpack {
 
 std::optional<HertzMindlinConstants> HertzMindlinConstants::of(const ContactLaw<3>& law) {
-  if (law.cohesion || law.rolling || !law.tangential.proportional_to_normal())
+  if (law.cohesion || law.rolling)
     return std::nullopt;
-  HertzMindlinConstants c;
-  if (const auto* hz = std::get_if<HertzNormal>(&law.normal))
-    c.e_tilde = hz->e_tilde;
-  else
-    c.linear_k_n = std::get<LinearNormal>(law.normal).k_n;
-  c.zeta = law.damping.zeta;
-  c.tension = law.damping.tension;
-  c.k_t_ratio = law.tangential.value;
-  c.walton = law.tangential.walton_rescaling;
-  c.mu = law.friction.mu;
-  return c;
+  const auto base = BatchLawConstants::of(law);
+  if (!base)
+    return std::nullopt;
+  return HertzMindlinConstants{*base};
 }
 
 namespace {
@@ -37,16 +29,8 @@ namespace {
 GRANPACK_SIMD_CLONES
 void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t n,
                     std::size_t n_valid, double dt, HertzMindlinSums& out) {
-  // Uniform choices become arithmetic, so that the loop body has no control flow:
-  // K_N = Ẽ sqrt(R* h) + K_lin (one of the two is zero), N^e = (2/3 or 1) K_N h; ζ = 0 gives
-  // a zero damping coefficient; μ = +inf never slides (t2 > inf is false).
-  const bool hertz = c.e_tilde > 0;
-  const double e_tilde = c.e_tilde, k_lin = hertz ? 0.0 : c.linear_k_n;
-  const double n_factor = hertz ? kHertzForceFactor : kLinearForceFactor;
-  const double two_zeta = 2.0 * c.zeta;
-  const bool tension = c.tension;
-  const double k_t_ratio = c.k_t_ratio, mu = c.mu;
-  const bool walton = c.walton && hertz; // the linear law's stiffness ratio is 1
+  // The law's uniform choices as arithmetic, so that the loop body has no control flow.
+  const BatchLawTerms law(c);
   const double half_dt = 0.5 * dt;
   // The sums, one variable each so that they vectorise as reductions (lane-wise partial
   // sums, combined at the end: a fixed order for a given batch and instruction set).
@@ -90,9 +74,9 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     const double dtx = dvx - dv_n * nx, dty = dvy - dv_n * ny, dtz = dvz - dv_n * nz;
 
     // Normal elasticity and damping.
-    const double k_n = hertz_stiffness(e_tilde, r_eff, hp) + k_lin;
-    const double n_el = normal_elastic_force(n_factor, k_n, hp);
-    const double n_visc = viscous_coefficient(two_zeta, m_eff, k_n) * h_dot;
+    const double k_n = hertz_stiffness(law.e_tilde, r_eff, hp) + law.k_lin;
+    const double n_el = normal_elastic_force(law.n_factor, k_n, hp);
+    const double n_visc = viscous_coefficient(law.two_zeta, m_eff, k_n) * h_dot;
 
     // Rotation of the contact over the step (contact_rotation_3d): rolling n x dn + pivoting.
     const Xyz normal{nx, ny, nz};
@@ -114,7 +98,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
 
     // Walton: N^e decreased, T scaled by K_N(N)/K_N(N_old) = (N/N_old)^{1/3}.
     const double n_old = b.n_old[l];
-    const bool unloading = walton & (n_el < n_old);
+    const bool unloading = law.walton & (n_el < n_old);
     const double xw = relative_load_change(n_el, unloading ? n_old : 1.0);
     const double ratio = n_el > 0 ? cbrt_one_plus_series(xw) : 0.0;
     const double scale = unloading ? ratio : 1.0;
@@ -123,11 +107,11 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     tz *= scale;
 
     // Elastic increment, then Coulomb on N^e.
-    const double kdt = proportional_tangential_stiffness(k_t_ratio, k_n) * dt;
+    const double kdt = proportional_tangential_stiffness(law.k_t_ratio, k_n) * dt;
     tx -= kdt * dtx;
     ty -= kdt * dty;
     tz -= kdt * dtz;
-    const double limit = coulomb_limit(mu, n_el);
+    const double limit = coulomb_limit(law.mu, n_el);
     const double t2 = tx * tx + ty * ty + tz * tz;
     const bool slide = beyond_coulomb(t2, limit);
     const double cut = limit > 0 ? coulomb_scale(limit, t2 > 0 ? t2 : 1.0) : 0.0;
@@ -136,7 +120,7 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
     tz = slide ? tz * cut : tz;
 
     // Forces and moments.
-    const double n_tot = applied_elastic_viscous_force(n_el + n_visc, tension) + 0.0;
+    const double n_tot = applied_elastic_viscous_force(n_el + n_visc, law.tension) + 0.0;
     const double fx = n_tot * nx + tx, fy = n_tot * ny + ty, fz = n_tot * nz + tz;
     b.fx[l] = fx;
     b.fy[l] = fy;

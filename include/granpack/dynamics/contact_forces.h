@@ -54,17 +54,14 @@ public:
   void for_each_contact(const System<dim>& sys, const VerletList<dim>& list, F&& f) const;
 
 private:
-  /// compute() for the laws HertzMindlinBatch evaluates (3D, no cohesion or rolling): the
-  /// touching pairs are gathered into batches, evaluated several per instruction, and their
-  /// results added in list order.
+  /// compute() for the laws a batch kernel evaluates (3D Hertz-Mindlin without cohesion or
+  /// rolling: HertzMindlinBatch; 2D [GRC] laws: DiskContactBatch): the pairs in range are
+  /// gathered into batches, evaluated several per instruction, and their results added in
+  /// list order. `Lanes` (contact_forces.cpp) says how a batch's lanes are filled and emptied.
+  template <class Lanes>
   ForceSums<dim> compute_batched(System<dim>& sys, const VerletList<dim>& list,
-                                 const ContactLaw<dim>& law, const HertzMindlinConstants& c,
-                                 double dt) requires(dim == 3);
-  /// The same for the 2D laws DiskContactBatch evaluates ([GRC]'s, cohesion and rolling
-  /// resistance included): the pairs in range (touching, or across a gap shorter than D0).
-  ForceSums<dim> compute_batched(System<dim>& sys, const VerletList<dim>& list,
-                                 const ContactLaw<dim>& law, const DiskContactConstants& c,
-                                 double dt) requires(dim == 2);
+                                 const ContactLaw<dim>& law, const Lanes& lanes,
+                                 typename Lanes::Batch& b, double dt);
 
   std::vector<std::ptrdiff_t> slot_;         ///< per listed pair: index in the ContactStore or -1
   std::unique_ptr<HertzMindlinBatch> batch_; ///< scratch of compute_batched (~40 kB)

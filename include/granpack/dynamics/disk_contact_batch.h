@@ -16,18 +16,13 @@
 #include <optional>
 
 #include "granpack/contact/contact_law.h"
+#include "granpack/dynamics/batch_law.h"
 
 namespace granpack {
 
-/// The constants of a 2D law the batch kernel needs.
-struct DiskContactConstants {
-  double e_tilde = 0;                   ///< Hertz Ẽ (linear_k_n = 0) ...
-  double linear_k_n = 0;                ///< ... or a linear spring K_N (e_tilde = 0)
-  double zeta = 0;                      ///< damping fraction ζ
-  bool tension = true;                  ///< N^e + N^v may pull (NormalDamping::tension)
-  double k_t_ratio = 0;                 ///< K_T / K_N
-  bool walton = true;                   ///< Walton rescaling of T when N^e decreases
-  double mu = 0;                        ///< Coulomb coefficient (may be +inf)
+/// The constants of a 2D law the batch kernel needs: those of BatchLawConstants, the
+/// cohesion and the rolling resistance.
+struct DiskContactConstants : BatchLawConstants {
   double f0 = 0, d0 = 0;                ///< cohesion F0, D0 (both 0: none)
   bool rolling = false;                 ///< rolling resistance (K_r > 0)
   double k_r = 0, mu_r = 0, zeta_r = 0; ///< K_r, μ_r (may be +inf), ζ_r

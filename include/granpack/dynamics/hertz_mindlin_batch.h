@@ -17,19 +17,12 @@
 #include <optional>
 
 #include "granpack/contact/contact_law.h"
+#include "granpack/dynamics/batch_law.h"
 
 namespace granpack {
 
 /// The constants of the law the batch kernel needs, taken from a ContactLaw<3>.
-struct HertzMindlinConstants {
-  double e_tilde = 0;    ///< Hertz Ẽ (linear_k_n = 0) ...
-  double linear_k_n = 0; ///< ... or a linear spring K_N (e_tilde = 0)
-  double zeta = 0;       ///< damping fraction ζ
-  bool tension = true;   ///< N^e + N^v may pull (NormalDamping::tension)
-  double k_t_ratio = 0;  ///< K_T / K_N
-  bool walton = true;    ///< Walton rescaling of T when N^e decreases
-  double mu = 0;         ///< Coulomb coefficient (may be +inf)
-
+struct HertzMindlinConstants : BatchLawConstants {
   /// The constants of `law` if the batch kernel can evaluate it: no cohesion, no rolling
   /// resistance, K_T proportional to K_N. Otherwise nullopt (the caller uses the scalar law).
   static std::optional<HertzMindlinConstants> of(const ContactLaw<3>& law);
