@@ -211,12 +211,7 @@ void evaluate(const DiskContactConstants& c, DiskContactBatch& b, std::size_t n,
   }
   DiskContactSums s;
   evaluate_lanes(c, b, padded, n, dt, s);
-  for (int k = 0; k < 4; ++k) {
-    sums.virial[k] += s.virial[k];
-    sums.virial_elastic[k] += s.virial_elastic[k];
-  }
-  sums.max_overlap = std::max(sums.max_overlap, s.max_overlap);
-  sums.contacts += s.contacts;
+  sums += s;
 }
 
 } // namespace granpack

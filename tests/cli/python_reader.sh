@@ -15,21 +15,7 @@ set -u
 cli_scratch
 export PYTHONPATH="$GRANPACK_SOURCE_DIR/jobs/tools:$PYTHONPATH"
 
-cat > "$scratch/small.toml" <<'TOML'
-[sample]
-dimension = 3
-n = 120
-diameter = 1.0e-3
-seed = 3
-[material]
-density = 2500.0
-normal_law = "hertz"
-young_modulus = 2.88e8
-poisson_ratio = 0.3
-friction = 0.3
-damping = 0.98
-[output]
-log_every = 100000
+{ small_deck 3 120 3; cat <<'TOML'
 [[stage]]
 kind = "random"
 phi = 0.45
@@ -40,6 +26,7 @@ inertia_max = 1.0e-2
 quench_interval = 20000
 tolerance_moment = 1.0e-4
 TOML
+} > "$scratch/small.toml"
 out="$scratch/run"
 check_exit "2-rank run" 0 "$scratch/run.txt" granpack_on 2 run "$scratch/small.toml" -o "$out" \
   || checks_stop python_reader "$scratch/run.txt"

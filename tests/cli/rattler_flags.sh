@@ -18,21 +18,7 @@ cli_scratch
 export PYTHONPATH="$GRANPACK_SOURCE_DIR/jobs/tools:$PYTHONPATH"
 
 deck=$scratch/fix.toml
-cat > "$deck" <<'TOML'
-[sample]
-dimension = 3
-n = 120
-diameter = 1.0e-3
-seed = 3
-[material]
-density = 2500.0
-normal_law = "hertz"
-young_modulus = 2.88e8
-poisson_ratio = 0.3
-friction = 0.3
-damping = 0.98
-[output]
-log_every = 100000
+{ small_deck 3 120 3; cat <<'TOML'
 checkpoint_every_steps = 0
 [[stage]]
 kind = "random"
@@ -52,6 +38,7 @@ max_steps = 4000
 kind = "write"
 file = "after.h5"
 TOML
+} > "$deck"
 out=$scratch/run
 check_exit "1-rank run: compress, write, fix_rattlers, write" 0 "$scratch/run.txt" \
   granpack_on 1 run "$deck" -o "$out" || checks_stop rattler_flags "$scratch/run.txt"

@@ -20,21 +20,7 @@ set -u
 . "$GRANPACK_SOURCE_DIR/tests/support/restart_chain.sh"
 restart_scratch   # $scratch, $pid, stop_run, and the EXIT trap
 deck=$scratch/fix.toml
-cat > "$deck" <<'TOML'
-[sample]
-dimension = 3
-n = 250
-diameter = 1.0e-3
-seed = 11
-[material]
-density = 2500.0
-normal_law = "hertz"
-young_modulus = 2.88e8
-poisson_ratio = 0.3
-friction = 0.3
-damping = 0.98
-[output]
-log_every = 100000
+{ small_deck 3 250 11; cat <<'TOML'
 [[stage]]
 kind = "random"
 phi = 0.45
@@ -49,6 +35,7 @@ name = "fixed"
 kind = "fix_rattlers"
 max_steps = 6025
 TOML
+} > "$deck"
 run_options=(--checkpoint-every-steps 400 --checkpoint-every-seconds 0)
 # chain NP: the uninterrupted run and the interrupted chain on NP ranks, compared. A failed
 # step ends the chain (the next ones need its files); the other rank count still runs.

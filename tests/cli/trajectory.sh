@@ -14,20 +14,7 @@ cli_scratch
 export PYTHONPATH="$GRANPACK_SOURCE_DIR/jobs/tools:$PYTHONPATH"
 
 deck=$scratch/traj.toml
-cat > "$deck" <<'TOML'
-[sample]
-dimension = 2
-n = 64
-diameter = 1.0e-3
-seed = 5
-[material]
-density = 2500.0
-normal_law = "linear"
-normal_stiffness = 1.0e3
-friction = 0.3
-damping = 0.5
-[output]
-log_every = 100000
+{ small_deck 2 64 5; cat <<'TOML'
 trajectory_every = 50
 checkpoint_every_steps = 100
 checkpoint_every_seconds = 0
@@ -40,6 +27,7 @@ pressure = 1.0
 inertia_max = 1.0e-3
 max_steps = 600
 TOML
+} > "$deck"
 
 whole=$scratch/whole chain=$scratch/chain
 check_exit "2-rank run with trajectory_every = 50" 0 "$scratch/whole.txt" \
@@ -48,10 +36,7 @@ check_exit "2-rank run with trajectory_every = 50" 0 "$scratch/whole.txt" \
 # The same run killed at step 1970, inside compress (which starts near step 1500, after the
 # random stage's overlap removal; its checkpoints wait for a rebuild after each 100 steps),
 # then restarted from its checkpoint.
-GRANPACK_FAULT=step:1970 granpack_on 2 run "$deck" -o "$chain" -q > "$scratch/killed.txt" 2>&1
-rc=$?
-check "the killed run died (exit $rc)" "[ $rc -ne 0 ] && grep -q 'killed itself' '$scratch/killed.txt'" \
-  || tail -5 "$scratch/killed.txt"
+run_killed 2 "$deck" "$chain" 1970
 ck_step=$("$GRANPACK_EXE" info "$chain/checkpoint.h5" | sed -n 's/^time:.*(step \([0-9]*\)).*/\1/p')
 check "a checkpoint before the kill (step ${ck_step:-none})" "[ -n '$ck_step' ] && [ '$ck_step' -lt 1970 ]"
 cp "$chain/trajectory.h5" "$scratch/before_restart.h5"

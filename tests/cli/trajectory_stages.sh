@@ -18,20 +18,7 @@ cli_scratch
 export PYTHONPATH="$GRANPACK_SOURCE_DIR/jobs/tools:$PYTHONPATH"
 
 deck=$scratch/traj.toml
-cat > "$deck" <<'TOML'
-[sample]
-dimension = 2
-n = 64
-diameter = 1.0e-3
-seed = 5
-[material]
-density = 2500.0
-normal_law = "linear"
-normal_stiffness = 1.0e3
-friction = 0.3
-damping = 0.5
-[output]
-log_every = 100000
+{ small_deck 2 64 5; cat <<'TOML'
 trajectory_every_time = 3.0
 trajectory_stage_ends = true
 checkpoint_every_steps = 100
@@ -48,6 +35,7 @@ max_steps = 300
 kind = "write"
 file = "copy.h5"
 TOML
+} > "$deck"
 
 whole=$scratch/whole chain=$scratch/chain
 check_exit "2-rank run with trajectory_every_time = 3 s, trajectory_stage_ends" 0 "$scratch/whole.txt" \
@@ -55,10 +43,7 @@ check_exit "2-rank run with trajectory_every_time = 3 s, trajectory_stage_ends" 
 
 # The same run killed at step 1700, inside compress (which starts after the random stage's
 # ~1500 steps of overlap removal), then restarted from its checkpoint.
-GRANPACK_FAULT=step:1700 granpack_on 2 run "$deck" -o "$chain" -q > "$scratch/killed.txt" 2>&1
-rc=$?
-check "the killed run died (exit $rc)" "[ $rc -ne 0 ] && grep -q 'killed itself' '$scratch/killed.txt'" \
-  || tail -5 "$scratch/killed.txt"
+run_killed 2 "$deck" "$chain" 1700
 check_exit "restart" 0 "$scratch/restart.txt" \
   granpack_on 2 run "$deck" -o "$chain" -q --restart "$chain/checkpoint.h5"
 

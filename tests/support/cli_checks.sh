@@ -139,3 +139,29 @@ require_pvbatch() {
   done
 }
 pvrun() { bash "$GRANPACK_SOURCE_DIR/jobs/tools/with_xvfb.sh" pvbatch "$@"; }
+# small_deck DIM N SEED: prints the [sample], [material] and [output] head of a tiny test deck
+#   (grains of 1 mm, density 2500, friction 0.3, quiet log): in 2D linear springs of 1e3 N/m
+#   with damping 0.5, soft enough for quick runs; in 3D Hertz glass-like grains softened to
+#   E = 2.88e8 Pa with [AR]'s damping 0.98. The caller appends its own [output] keys and stages:
+#   { small_deck 3 120 3; cat <<'TOML' ... TOML
+#   } > "$deck"
+small_deck() {
+  printf '[sample]\ndimension = %s\nn = %s\ndiameter = 1.0e-3\nseed = %s\n' "$1" "$2" "$3"
+  printf '[material]\ndensity = 2500.0\n'
+  if [ "$1" = 2 ]; then
+    printf 'normal_law = "linear"\nnormal_stiffness = 1.0e3\nfriction = 0.3\ndamping = 0.5\n'
+  else
+    printf 'normal_law = "hertz"\nyoung_modulus = 2.88e8\npoisson_ratio = 0.3\n'
+    printf 'friction = 0.3\ndamping = 0.98\n'
+  fi
+  printf '[output]\nlog_every = 100000\n'
+}
+# run_killed NP DECK OUT STEP: `granpack run DECK -o OUT -q` on NP ranks, killed by itself at
+#   step STEP (GRANPACK_FAULT=step:STEP, docs/long-jobs.md), its output in OUT.killed.txt; one
+#   check that it died there. The caller restarts it from OUT/checkpoint.h5.
+run_killed() {
+  GRANPACK_FAULT=step:$4 granpack_on "$1" run "$2" -o "$3" -q > "$3.killed.txt" 2>&1
+  local rc=$?
+  check "the run killed at step $4 died (exit $rc)" \
+    "[ $rc -ne 0 ] && grep -q 'killed itself' '$3.killed.txt'" || tail -5 "$3.killed.txt"
+}

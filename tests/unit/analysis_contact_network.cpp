@@ -79,6 +79,23 @@ template <int dim> double component(const NetworkFields<dim>& f, std::size_t g, 
   return f.stress[std::size_t(a * dim + b)][g];
 }
 
+template <int dim> Cell<dim> cell_of_side_10() {
+  Cell<dim> cell;
+  cell.length = Vec<dim>::Constant(10.0);
+  return cell;
+}
+
+/// Grains 4 (radius 1) and 7 (radius 0.8) along x, `ds` apart in cell_of_side_10's fractional
+/// coordinates (ds = 0.18: just touching; 0.16: an overlap of 0.2).
+template <int dim> ParticleStore<dim> grains_4_and_7(double ds) {
+  ParticleStore<dim> p;
+  Vec<dim> s = Vec<dim>::Constant(0.5);
+  p.add_owned(grain<dim>(4, s, 1.0));
+  s[0] += ds;
+  p.add_owned(grain<dim>(7, s, 0.8));
+  return p;
+}
+
 template <class T> class GrainStress : public ::testing::Test {};
 using Dims = ::testing::Types<std::integral_constant<int, 2>, std::integral_constant<int, 3>>;
 TYPED_TEST_SUITE(GrainStress, Dims);
@@ -87,13 +104,8 @@ TYPED_TEST_SUITE(GrainStress, Dims);
 // N = 2: each carries sigma_xx = N d / (2 V_g), every other component 0.
 TYPED_TEST(GrainStress, TwoGrainsPressedTogether) {
   constexpr int dim = TypeParam::value;
-  Cell<dim> cell;
-  cell.length = Vec<dim>::Constant(10.0);
-  ParticleStore<dim> p;
-  Vec<dim> s = Vec<dim>::Constant(0.5);
-  p.add_owned(grain<dim>(4, s, 1.0));
-  s[0] += 0.18;
-  p.add_owned(grain<dim>(7, s, 0.8));
+  const Cell<dim> cell = cell_of_side_10<dim>();
+  const ParticleStore<dim> p = grains_4_and_7<dim>(0.18);
   ContactStore<dim> c;
   ContactState<dim> st;
   st.normal_force = 2.0;
@@ -182,13 +194,8 @@ TYPED_TEST(GrainStress, SumsToTheCellVirialAndTracesToMeanStress) {
 // + K_r dtheta = -0.15 (3D: only the z component). T along -y flips the lever-arm part only.
 TYPED_TEST(GrainStress, NetMomentOfTwoGrains) {
   constexpr int dim = TypeParam::value;
-  Cell<dim> cell;
-  cell.length = Vec<dim>::Constant(10.0);
-  ParticleStore<dim> p;
-  Vec<dim> s = Vec<dim>::Constant(0.5);
-  p.add_owned(grain<dim>(4, s, 1.0));
-  s[0] += 0.16;
-  p.add_owned(grain<dim>(7, s, 0.8));
+  const Cell<dim> cell = cell_of_side_10<dim>();
+  const ParticleStore<dim> p = grains_4_and_7<dim>(0.16);
   const auto law = linear_law<dim>(3.0);
   for (const double sign : {1.0, -1.0}) {
     ContactStore<dim> c;

@@ -167,6 +167,17 @@ template <int dim> System<dim> random_cloud(int count, double side, double width
   return sys;
 }
 
+/// compare_with_reference over 30 steps of up to 2 um with a 0.2 mm skin, and a check that the
+/// case covers what it claims: contacts formed and opened, and most listed pairs apart.
+template <int dim> Seen compare_over_30_steps(System<dim> sys, const ContactLaw<dim>& law) {
+  Seen seen;
+  compare_with_reference(sys, law, 0.2e-3, 2e-6, 30, seen);
+  EXPECT_GT(seen.formed, 10);
+  EXPECT_GT(seen.opened, 10);
+  EXPECT_GT(seen.listed_apart, 30 * 100);
+  return seen;
+}
+
 } // namespace
 
 TEST(ContactForceLoop, BatchedLoopMatchesTheScalarLawAsContactsFormAndOpen) {
@@ -180,13 +191,7 @@ TEST(ContactForceLoop, BatchedLoopMatchesTheScalarLawAsContactsFormAndOpen) {
 
   // 800 spheres in a 14 mm cube at the middle of a 40 mm cell: solid fraction about 0.15, most
   // listed pairs apart. dt: up to 2 um per step, over 30 steps 60 um < skin / 2.
-  System<3> sys = random_cloud<3>(800, 40e-3, 0.35);
-  Seen seen;
-  compare_with_reference(sys, law, 0.2e-3, 2e-6, 30, seen);
-  // The case covers what it claims: contacts formed and opened, and most listed pairs apart.
-  EXPECT_GT(seen.formed, 10);
-  EXPECT_GT(seen.opened, 10);
-  EXPECT_GT(seen.listed_apart, 30 * 100);
+  compare_over_30_steps(random_cloud<3>(800, 40e-3, 0.35), law);
 }
 
 // [GRC]'s 2D law (linear normal force, damping, friction, cohesion of range D0, rolling
@@ -218,12 +223,7 @@ TEST(ContactForceLoop, Batched2dLoopMatchesTheScalarLawAsContactsFormSlideRollAn
     const ContactLaw<2> law = make_contact_law<2>(prm);
     ASSERT_TRUE(DiskContactConstants::of(law).has_value()); // the batched path is under test
     // 800 disks in a 46 mm square at the middle of a 100 mm cell: area fraction about 0.3.
-    System<2> sys = random_cloud<2>(800, 100e-3, 0.46);
-    Seen seen;
-    compare_with_reference(sys, law, 0.2e-3, 2e-6, 30, seen);
-    EXPECT_GT(seen.formed, 10);
-    EXPECT_GT(seen.opened, 10);
-    EXPECT_GT(seen.listed_apart, 30 * 100);
+    const Seen seen = compare_over_30_steps(random_cloud<2>(800, 100e-3, 0.46), law);
     if (std::isfinite(prm.friction)) {
       EXPECT_GT(seen.sliding, 30);
     }

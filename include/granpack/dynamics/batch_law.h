@@ -58,4 +58,22 @@ struct BatchLawTerms {
         tension(c.tension), k_t_ratio(c.k_t_ratio), mu(c.mu), walton(c.walton && hertz) {}
 };
 
+/// What a batch kernel sums over the lanes it evaluates (those not flagged `exact`).
+template <int dim> struct BatchSums {
+  double virial[dim * dim] = {};         ///< sum of F ⊗ r (row-major: F_a r_b at [dim a + b])
+  double virial_elastic[dim * dim] = {}; ///< the same with the static force (N^e + N^a) n + T
+  double max_overlap = 0;                ///< largest h / min(R_i, R_j)
+  long contacts = 0;                     ///< lanes evaluated (contacts, distant interactions)
+
+  BatchSums& operator+=(const BatchSums& o) {
+    for (int k = 0; k < dim * dim; ++k) {
+      virial[k] += o.virial[k];
+      virial_elastic[k] += o.virial_elastic[k];
+    }
+    max_overlap = max_overlap < o.max_overlap ? o.max_overlap : max_overlap; // as std::max
+    contacts += o.contacts;
+    return *this;
+  }
+};
+
 } // namespace granpack

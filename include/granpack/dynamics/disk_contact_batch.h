@@ -50,13 +50,7 @@ struct alignas(64) DiskContactBatch {
   Lane<int> exact;     ///< 1: off the batch's path, use ContactLaw::force
 };
 
-/// What evaluate() sums over the lanes it handles (those not flagged `exact`).
-struct DiskContactSums {
-  double virial[4] = {};         ///< sum of F ⊗ r (row-major: F_a r_b at [2a + b])
-  double virial_elastic[4] = {}; ///< the same with the static force (N^e + N^a) n + T
-  double max_overlap = 0;        ///< largest h / min(R_i, R_j)
-  long contacts = 0;             ///< lanes evaluated (contacts and distant interactions)
-};
+using DiskContactSums = BatchSums<2>;
 
 /// Evaluates lanes [0, n) over a time step dt (padding them to a multiple of 8 internally)
 /// and adds their virials, largest overlap and count to `sums`.

@@ -48,13 +48,7 @@ struct alignas(64) HertzMindlinBatch {
   Lane<int> exact;                           ///< 1: off the batch's path, use ContactLaw::force
 };
 
-/// What evaluate() sums over the lanes it handles (those not flagged `exact`).
-struct HertzMindlinSums {
-  double virial[9] = {};         ///< sum of F ⊗ r (row-major: F_a r_b at [3a + b])
-  double virial_elastic[9] = {}; ///< the same with the elastic force N^e n + T
-  double max_overlap = 0;        ///< largest h / min(R_i, R_j)
-  long contacts = 0;             ///< lanes evaluated
-};
+using HertzMindlinSums = BatchSums<3>;
 
 /// Evaluates lanes [0, n) over a time step dt (padding them to a multiple of 8 internally)
 /// and adds their virials, largest overlap and count to `sums`.
