@@ -70,9 +70,10 @@ struct StageTiming {
 StageTiming stage_timing_over_ranks(MPI_Comm world, const StageTimers& st) {
   const auto size = static_cast<double>(size_of(world));
   const StepTimers& t = st.md;
-  std::array sum{t.forces, t.neighbor,      t.comm,          t.integrate,    t.forces_cpu,
+  const double forces_cpu = t.forces_cpu_estimate();
+  std::array sum{t.forces, t.neighbor,      t.comm,          t.integrate,    forces_cpu,
                  st.io,    st.event_driven, t.dense.seconds, t.loose.seconds};
-  std::array max{t.forces, t.forces_cpu};
+  std::array max{t.forces, forces_cpu};
   global_sum_in_place(world, sum);
   global_max_in_place(world, max);
   for (double& x : sum)

@@ -136,8 +136,7 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   auto& sys = ctx_.system;
   ForceSums<dim> sums;
   {
-    ScopedPhase t(timers_.forces);
-    ScopedCpuPhase cpu(timers_.forces_cpu);
+    ForcePhaseTimer t(timers_);
     sums = loop_.compute(sys, list_, law_, settings_.dt);
   }
   {
@@ -158,6 +157,12 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
     ek += 0.5 * p.inertia[i] * p.angular_velocity[i].squaredNorm();
     v2max = std::max(v2max, p.velocity[i].squaredNorm());
   }
+  // The largest overlap and the largest displacement in a step (|v| dt with the velocity
+  // that drifted the grains), for one all-reduce below. Computed here, before the calls into
+  // MPI: a value live across a call is kept in memory for its whole life (every xmm register
+  // is caller-saved), and the loop's running maximum then went through a store and a load
+  // each iteration, two thirds of this loop's time (perf, 1400 disks).
+  double mx[2] = {sums.max_overlap, std::sqrt(v2max) * settings_.dt};
   ek += 0.5 * kinetic.trace();
   Eigen::Map<Tensor<dim>> total_part(local), elastic_part(local + nt);
   total_part = sums.virial + kinetic;
@@ -171,9 +176,6 @@ template <int dim> void MdEngine<dim>::forces_and_observables() {
   obs_.stress_elastic = Eigen::Map<Tensor<dim>>(global + nt) / volume;
   obs_.kinetic_energy = global[2 * nt];
   obs_.contacts = static_cast<std::int64_t>(global[2 * nt + 1]);
-  // The largest overlap and the largest displacement in a step (|v| dt with the velocity
-  // that drifted the grains), in one all-reduce.
-  double mx[2] = {sums.max_overlap, std::sqrt(v2max) * settings_.dt};
   global_max_in_place(ctx_.world, mx);
   obs_.max_overlap = mx[0];
   obs_.max_step_displacement = mx[1];
