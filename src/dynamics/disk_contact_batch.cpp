@@ -199,19 +199,9 @@ void evaluate_lanes(const DiskContactConstants& c, DiskContactBatch& b, std::siz
 
 void evaluate(const DiskContactConstants& c, DiskContactBatch& b, std::size_t n, double dt,
               DiskContactSums& sums) {
-  // Whole vectors only: every lane then goes through the same instructions.
-  const std::size_t padded = (n + 7) / 8 * 8;
-  GRANPACK_ASSERT(padded <= DiskContactBatch::kCapacity, "batch overflow");
-  for (std::size_t l = n; l < padded; ++l) { // padding: copies of lane 0, at rest
-    b.rx[l] = b.rx[0], b.ry[l] = b.ry[0];
-    b.rad_i[l] = b.rad_i[0], b.rad_j[l] = b.rad_j[0];
-    b.mass_i[l] = b.mass_i[0], b.mass_j[l] = b.mass_j[0];
-    b.vx[l] = b.vy[l] = b.wi[l] = b.wj[l] = 0;
-    b.tx[l] = b.ty[l] = b.n_old[l] = b.rolling[l] = 0;
-  }
-  DiskContactSums s;
-  evaluate_lanes(c, b, padded, n, dt, s);
-  sums += s;
+  evaluate_padded(b, n, sums, [&](std::size_t padded, DiskContactSums& s) {
+    evaluate_lanes(c, b, padded, n, dt, s);
+  });
 }
 
 } // namespace granpack

@@ -184,21 +184,9 @@ void evaluate_lanes(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::s
 
 void evaluate(const HertzMindlinConstants& c, HertzMindlinBatch& b, std::size_t n, double dt,
               HertzMindlinSums& sums) {
-  // Whole vectors only: every lane then goes through the same instructions.
-  const std::size_t padded = (n + 7) / 8 * 8;
-  GRANPACK_ASSERT(padded <= HertzMindlinBatch::kCapacity, "batch overflow");
-  for (std::size_t l = n; l < padded; ++l) { // padding: copies of lane 0, at rest
-    b.rx[l] = b.rx[0], b.ry[l] = b.ry[0], b.rz[l] = b.rz[0];
-    b.rad_i[l] = b.rad_i[0], b.rad_j[l] = b.rad_j[0];
-    b.mass_i[l] = b.mass_i[0], b.mass_j[l] = b.mass_j[0];
-    b.vx[l] = b.vy[l] = b.vz[l] = 0;
-    b.wix[l] = b.wiy[l] = b.wiz[l] = b.wjx[l] = b.wjy[l] = b.wjz[l] = 0;
-    b.tx[l] = b.ty[l] = b.tz[l] = 0;
-    b.n_old[l] = 0;
-  }
-  HertzMindlinSums s;
-  evaluate_lanes(c, b, padded, n, dt, s);
-  sums += s;
+  evaluate_padded(b, n, sums, [&](std::size_t padded, HertzMindlinSums& s) {
+    evaluate_lanes(c, b, padded, n, dt, s);
+  });
 }
 
 } // namespace granpack

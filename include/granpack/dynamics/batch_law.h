@@ -4,11 +4,13 @@
 // damping, tangential stiffness and friction they evaluate, and the form in which the kernels
 // use them (uniform choices turned into arithmetic, so that the loop bodies have no control
 // flow). MPI-free.
+#include <cstddef>
 #include <optional>
 #include <variant>
 
 #include "granpack/contact/contact_law.h"
 #include "granpack/contact/normal_elasticity.h"
+#include "granpack/core/error.h"
 
 namespace granpack {
 
@@ -75,5 +77,19 @@ template <int dim> struct BatchSums {
     return *this;
   }
 };
+
+/// The frame of every batch kernel's entry point: lanes [0, n) of `b` padded to whole vectors
+/// of 8 (every lane then goes through the same instructions; Batch::pad_lane fills the rest),
+/// evaluated by `lanes(padded, s)` into fresh sums s, which are then added to `sums`.
+template <class Batch, int dim, class Lanes>
+void evaluate_padded(Batch& b, std::size_t n, BatchSums<dim>& sums, Lanes&& lanes) {
+  const std::size_t padded = (n + 7) / 8 * 8;
+  GRANPACK_ASSERT(padded <= Batch::kCapacity, "batch overflow");
+  for (std::size_t l = n; l < padded; ++l)
+    b.pad_lane(l);
+  BatchSums<dim> s;
+  lanes(padded, s);
+  sums += s;
+}
 
 } // namespace granpack

@@ -48,6 +48,15 @@ struct alignas(64) DiskContactBatch {
   Lane<double> ti, tj; ///< torques on i and j, rolling moments included
   Lane<int> flags;     ///< ContactFlag bits of the new state (kSliding, kRollingPlastic, kDistant)
   Lane<int> exact;     ///< 1: off the batch's path, use ContactLaw::force
+
+  /// Makes lane l a padding lane: a copy of lane 0's geometry, at rest, with no history.
+  void pad_lane(std::size_t l) {
+    rx[l] = rx[0], ry[l] = ry[0];
+    rad_i[l] = rad_i[0], rad_j[l] = rad_j[0];
+    mass_i[l] = mass_i[0], mass_j[l] = mass_j[0];
+    vx[l] = vy[l] = wi[l] = wj[l] = 0;
+    tx[l] = ty[l] = n_old[l] = rolling[l] = 0;
+  }
 };
 
 using DiskContactSums = BatchSums<2>;

@@ -46,6 +46,17 @@ struct alignas(64) HertzMindlinBatch {
   Lane<double> overlap;                      ///< h
   Lane<int> sliding;                         ///< 1: T on the Coulomb cone
   Lane<int> exact;                           ///< 1: off the batch's path, use ContactLaw::force
+
+  /// Makes lane l a padding lane: a copy of lane 0's geometry, at rest, with no history.
+  void pad_lane(std::size_t l) {
+    rx[l] = rx[0], ry[l] = ry[0], rz[l] = rz[0];
+    rad_i[l] = rad_i[0], rad_j[l] = rad_j[0];
+    mass_i[l] = mass_i[0], mass_j[l] = mass_j[0];
+    vx[l] = vy[l] = vz[l] = 0;
+    wix[l] = wiy[l] = wiz[l] = wjx[l] = wjy[l] = wjz[l] = 0;
+    tx[l] = ty[l] = tz[l] = 0;
+    n_old[l] = 0;
+  }
 };
 
 using HertzMindlinSums = BatchSums<3>;
