@@ -1,0 +1,82 @@
+#!/usr/bin/python3
+"""I(k) of pooled ensembles beside [GRC]'s fitted curves, each divided by its value at k = 1/a
+(issue 27; docs/reproduction-2d.md, "The blob size against geometric aggregation").
+
+Dividing by I(1/a) compares the shapes only: how much the density fluctuations grow from the
+grain scale to the cell's, which is what the blob size xi of eq. (28) measures. [GRC]'s curves
+are eq. (28) with their table VII's d_F and xi (Cst = 0), drawn over the k range of a
+1400-disk cell at Phi = 0.36 (k a from 2 pi / 55 to 2 pi).
+
+  /usr/bin/python3 jobs/tools/plot_ik_yardstick.py OUT.png LABEL=ensemble.json[:STAGE] ...
+
+ensemble.json is `granpack ensemble`'s file (its `density_pooled`); STAGE picks one of its
+configurations (default: the first).
+"""
+import argparse
+import json
+import sys
+
+import numpy as np
+from scipy.special import hyp2f1
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+# [GRC] table VII: (d_F, xi/a).
+GRC = {"[GRC] no RR, P* = 0": (1.925, 8.29), "[GRC] RR, P* = 0": (1.53, 9.3),
+       "[GRC] RR, P* = 0.01": (1.51, 5.06)}
+
+
+def eq28_shape(k, d_f, xi):
+    """Eq. (28) without its constant, up to its amplitude, through the Legendre form that
+    converges for every k (docs/analysis.md): (p^2 + k^2)^(-d/2) P_(d-1)(p / sqrt(p^2 + k^2))."""
+    p = 1.0 / xi
+    x = p / np.sqrt(p * p + k * k)
+    nu = d_f - 1.0
+    return (p * p + k * k) ** (-d_f / 2) * hyp2f1(-nu, nu + 1.0, 1.0, (1.0 - x) / 2.0)
+
+
+def pooled(spec):
+    label, _, rest = spec.rpartition("=")  # labels may hold "=", paths do not
+    path, _, stage = rest.partition(":")
+    if not path:
+        sys.exit(f"plot_ik_yardstick: '{spec}' is not LABEL=ensemble.json[:STAGE]")
+    try:
+        pools = json.load(open(path))["density_pooled"]
+    except (OSError, KeyError, json.JSONDecodeError) as e:
+        sys.exit(f"plot_ik_yardstick: {path}: no density_pooled ({e})")
+    stage = stage or next(iter(pools))
+    if stage not in pools:
+        sys.exit(f"plot_ik_yardstick: {path}: no stage '{stage}' (has {', '.join(pools)})")
+    ik = pools[stage]["I_k"]
+    k = np.array(ik["k_times_a"])
+    y = np.array(ik["I_over_a2"])
+    keep = k <= 2 * np.pi
+    return label, k[keep], y[keep] / np.interp(1.0, k, y)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("out")
+    ap.add_argument("curves", nargs="+", help="LABEL=ensemble.json[:STAGE]")
+    a = ap.parse_args()
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    for spec in a.curves:
+        label, k, y = pooled(spec)
+        ax.loglog(k, y, "o-", ms=3, lw=1, label=label)
+    k = np.geomspace(2 * np.pi / 55.3, 2 * np.pi, 200)
+    for label, (d_f, xi) in GRC.items():
+        y = eq28_shape(k, d_f, xi)
+        ax.loglog(k, y / eq28_shape(1.0, d_f, xi), "--", lw=1.5, label=f"{label} (eq. 28)")
+    ax.set_xlabel("k a")
+    ax.set_ylabel("I(k) / I(1/a)")
+    ax.set_title("Density fluctuations from the grain to the cell scale")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(a.out, dpi=120)
+    print(f"wrote {a.out}")
+
+
+if __name__ == "__main__":
+    main()
