@@ -13,21 +13,7 @@ NetworkFields<dim> contact_network(const Cell<dim>& cell, const ParticleStore<di
                                    const ContactStore<dim>& contacts, const ContactLaw<dim>& law) {
   NetworkFields<dim> f;
   const std::size_t nc = contacts.size(), n = p.size();
-  f.start.assign(nc, Vec<dim>::Zero());
-  f.end.assign(nc, Vec<dim>::Zero());
-  f.normal_force.assign(nc, 0.0);
-  f.tangential_magnitude.assign(nc, 0.0);
-  f.kind.assign(nc, static_cast<std::int64_t>(NetworkKind::kUnstressed));
-  f.mobilisation.assign(nc, 0.0);
-  f.contacts.assign(n, 0.0);
-  f.carrying_contacts.assign(n, 0.0);
-  f.mean_stress.assign(n, 0.0);
-  for (auto& c : f.net_force)
-    c.assign(n, 0.0);
-  for (auto& c : f.net_moment)
-    c.assign(n, 0.0);
-  for (auto& c : f.stress)
-    c.assign(n, 0.0);
+  f.reset(nc, n);
   const double k_r = law.rolling ? law.rolling->k_r : 0.0;
   // Local index of each id: the owned copy first (emplace keeps it), else any ghost image.
   std::unordered_map<GlobalId, std::size_t> index;

@@ -747,21 +747,11 @@ TYPED_TEST(Hdf5Store, FixedRattlersReadBack) {
   // Zeros of the right lengths (the writer checks them) but for the flags.
   const std::size_t n = c.particles.n_owned(), nc = c.contacts.size();
   NetworkFields<dim> f;
-  f.start.assign(nc, Vec<dim>::Zero());
-  f.end.assign(nc, Vec<dim>::Zero());
-  for (auto* v : {&f.normal_force, &f.tangential_magnitude, &f.mobilisation, &f.strong})
-    v->assign(nc, 0.0);
-  f.kind.assign(nc, 0);
-  for (auto* v : {&f.contacts, &f.carrying_contacts, &f.mean_stress, &f.rattler, &f.bond_order,
-                  &f.crystalline})
+  f.reset(nc, n);
+  f.strong.assign(nc, 0.0);
+  for (auto* v : {&f.rattler, &f.bond_order, &f.crystalline})
     v->assign(n, 0.0);
   f.cluster_id.assign(n, 0);
-  for (auto& v : f.net_force)
-    v.assign(n, 0.0);
-  for (auto& v : f.net_moment)
-    v.assign(n, 0.0);
-  for (auto& v : f.stress)
-    v.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i)
     f.fixed_rattler.push_back(double(c.particles.id[i] % 3 == 0));
   std::vector<std::int64_t> want;

@@ -89,6 +89,26 @@ template <int dim> struct NetworkFields {
   /// 2D: |psi6| >= kCrystallinePsi6), else 0. Not filled by contact_network.
   std::vector<double> crystalline;
   std::int64_t missing = 0; ///< contacts whose grains are not both local (nothing computed)
+
+  /// Sizes the fields contact_network fills for `nc` contacts and `n` local grains, all zero
+  /// (kind: unstressed), so that a contact or grain it skips reads as no force; the fields
+  /// filled elsewhere are left as they are.
+  void reset(std::size_t nc, std::size_t n) {
+    start.assign(nc, Vec<dim>::Zero());
+    end.assign(nc, Vec<dim>::Zero());
+    normal_force.assign(nc, 0.0);
+    tangential_magnitude.assign(nc, 0.0);
+    kind.assign(nc, static_cast<std::int64_t>(NetworkKind::kUnstressed));
+    mobilisation.assign(nc, 0.0);
+    for (auto* v : {&contacts, &carrying_contacts, &mean_stress})
+      v->assign(n, 0.0);
+    for (auto& c : net_force)
+      c.assign(n, 0.0);
+    for (auto& c : net_moment)
+      c.assign(n, 0.0);
+    for (auto& c : stress)
+      c.assign(n, 0.0);
+  }
 };
 
 /// Volume of a grain of radius r: a disk per unit thickness in 2D, a sphere in 3D.
