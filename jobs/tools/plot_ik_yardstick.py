@@ -7,10 +7,11 @@ grain scale to the cell's, which is what the blob size xi of eq. (28) measures. 
 are eq. (28) with their table VII's d_F and xi (Cst = 0), drawn over the k range of a
 1400-disk cell at Phi = 0.36 (k a from 2 pi / 55 to 2 pi).
 
-  /usr/bin/python3 jobs/tools/plot_ik_yardstick.py OUT.png LABEL=ensemble.json[:STAGE] ...
+  /usr/bin/python3 jobs/tools/plot_ik_yardstick.py OUT.png LABEL=FILE.json[:STAGE] ...
 
-ensemble.json is `granpack ensemble`'s file (its `density_pooled`); STAGE picks one of its
-configurations (default: the first).
+FILE.json is `granpack ensemble`'s ensemble.json (its `density_pooled`; STAGE picks one of its
+configurations, default the first) or one configuration's `granpack analyze --json` file (its
+`density`; no STAGE).
 """
 import argparse
 import json
@@ -43,13 +44,20 @@ def pooled(spec):
     if not path:
         sys.exit(f"plot_ik_yardstick: '{spec}' is not LABEL=ensemble.json[:STAGE]")
     try:
-        pools = json.load(open(path))["density_pooled"]
-    except (OSError, KeyError, json.JSONDecodeError) as e:
-        sys.exit(f"plot_ik_yardstick: {path}: no density_pooled ({e})")
-    stage = stage or next(iter(pools))
-    if stage not in pools:
-        sys.exit(f"plot_ik_yardstick: {path}: no stage '{stage}' (has {', '.join(pools)})")
-    ik = pools[stage]["I_k"]
+        data = json.load(open(path))
+    except (OSError, json.JSONDecodeError) as e:
+        sys.exit(f"plot_ik_yardstick: {path}: {e}")
+    if "density_pooled" in data:
+        pools = data["density_pooled"]
+        stage = stage or next(iter(pools))
+        if stage not in pools:
+            sys.exit(f"plot_ik_yardstick: {path}: no stage '{stage}' (has {', '.join(pools)})")
+        ik = pools[stage]["I_k"]
+    elif "density" in data and not stage:
+        ik = data["density"]["I_k"]
+    else:
+        sys.exit(f"plot_ik_yardstick: {path}: neither an ensemble.json with density_pooled nor "
+                 "an analysis JSON with density (which takes no :STAGE)")
     k = np.array(ik["k_times_a"])
     y = np.array(ik["I_over_a2"])
     keep = k <= 2 * np.pi
@@ -59,7 +67,7 @@ def pooled(spec):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("out")
-    ap.add_argument("curves", nargs="+", help="LABEL=ensemble.json[:STAGE]")
+    ap.add_argument("curves", nargs="+", help="LABEL=FILE.json[:STAGE]")
     a = ap.parse_args()
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     for spec in a.curves:
