@@ -36,24 +36,4 @@ for phi in $phis; do
   mpirun -np 1 --bind-to none "$exe" ensemble "$ens" > "$ens/ensemble.log" 2>&1
 done
 
-/usr/bin/python3 - "$out" "$n" "$k" $phis <<'PY'
-import json, sys
-import numpy as np
-out, n, k, phis = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4:]
-print(f"BCCA, n = {n}, K = {k} per solid fraction (xi, d_F from eq. 28 on the pooled I(k);"
-      " C(r): eq. 27 per sample, mean +- sd of the determined ones)")
-print("| Phi | pooled I(k): d_F | pooled I(k): xi/a | fractal regime | C(r): d_F | C(r): xi/a |")
-print("|---|---|---|---|---|---|")
-for phi in phis:
-    e = json.load(open(f"{out}/phi{phi}/ensemble.json"))["density_pooled"]["bcca"]["fit_eq28"]
-    c = [json.load(open(f"{out}/phi{phi}/sample_{s}/bcca.analysis.json"))["density"]
-         ["fit_eq27_real_space"] for s in range(1, k + 1)]
-    c = [q for q in c if q.get("determined")]
-    xi = np.array([q["xi_over_a"] for q in c]); df = np.array([q["d_F"] for q in c])
-    sd = lambda x: np.std(x, ddof=1) if len(x) > 1 else float("nan")
-    fit = (f"{e['d_F']:.2f} +- {e['d_F_error']:.2f} | {e['xi_over_a']:.2f} +- "
-           f"{e['xi_error_over_a']:.2f}" if e.get("determined") else "undetermined | ")
-    regime = "yes" if e.get("fractal_regime") else f"no ({e.get('regime_failure')})"
-    print(f"| {phi} | {fit} | {regime} | {df.mean():.2f} +- {sd(df):.2f} "
-          f"| {xi.mean():.2f} +- {sd(xi):.2f} ({len(c)} of {k}) |")
-PY
+/usr/bin/python3 jobs/tools/bcca_sweep_table.py "$out" --n "$n" --k "$k" --phis $phis

@@ -10,20 +10,21 @@ are eq. (28) with their table VII's d_F and xi (Cst = 0), drawn over the k range
   /usr/bin/python3 jobs/tools/plot_ik_yardstick.py OUT.png LABEL=FILE.json[:STAGE] ...
 
 FILE.json is `granpack ensemble`'s ensemble.json (its `density_pooled`; STAGE picks one of its
-configurations, default the first) or one configuration's `granpack analyze --json` file (its
-`density`; no STAGE).
+configurations, default the first; a file named otherwise is read as one when STAGE is given)
+or one configuration's `granpack analyze --json` file (its `density`).
 """
 import argparse
-import json
-import sys
 
 import numpy as np
 from scipy.special import hyp2f1
+
+import granpack_io as gio
 
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+PROG = "plot_ik_yardstick.py"
 # [GRC] table VII: (d_F, xi/a).
 GRC = {"[GRC] no RR, P* = 0": (1.925, 8.29), "[GRC] RR, P* = 0": (1.53, 9.3),
        "[GRC] RR, P* = 0.01": (1.51, 5.06)}
@@ -42,22 +43,22 @@ def pooled(spec):
     label, _, rest = spec.rpartition("=")  # labels may hold "=", paths do not
     path, _, stage = rest.partition(":")
     if not path:
-        sys.exit(f"plot_ik_yardstick: '{spec}' is not LABEL=ensemble.json[:STAGE]")
+        gio.fail(PROG, f"'{spec}' is not LABEL=FILE.json[:STAGE]")
     try:
-        data = json.load(open(path))
-    except (OSError, json.JSONDecodeError) as e:
-        sys.exit(f"plot_ik_yardstick: {path}: {e}")
-    if "density_pooled" in data:
-        pools = data["density_pooled"]
-        stage = stage or next(iter(pools))
-        if stage not in pools:
-            sys.exit(f"plot_ik_yardstick: {path}: no stage '{stage}' (has {', '.join(pools)})")
-        ik = pools[stage]["I_k"]
-    elif "density" in data and not stage:
-        ik = data["density"]["I_k"]
-    else:
-        sys.exit(f"plot_ik_yardstick: {path}: neither an ensemble.json with density_pooled nor "
-                 "an analysis JSON with density (which takes no :STAGE)")
+        if stage or path.endswith("ensemble.json"):
+            pools = gio.read_ensemble(path).get("density_pooled") or {}
+            stage = stage or next(iter(pools), "")
+            if stage not in pools:
+                gio.fail(PROG, f"{path}: no pooled I(k) of stage '{stage}' "
+                         f"(has: {', '.join(pools) or 'none'})")
+            ik = pools[stage]["I_k"]
+        else:
+            density = gio.read_analysis(path).get("density")
+            if not density:
+                gio.fail(PROG, f"{path}: no density (a 2D analysis has it)")
+            ik = density["I_k"]
+    except gio.GranpackFileError as e:
+        gio.fail(PROG, e)
     k = np.array(ik["k_times_a"])
     y = np.array(ik["I_over_a2"])
     keep = k <= 2 * np.pi
