@@ -9,18 +9,20 @@
 #   OUT/single/<stem>.json            docs/data/<stem>.h5, one sample per state (A, A', C, D:
 #                                     the only committed configurations of those states)
 #   OUT/fig3/<stem>.json              docs/data/fig3/<stem>.h5, A at n = 1372 from 100 Pa to 1 MPa
+#   OUT/qs/D_QS_sample_<k>/<stem>.json  jobs/runs/ar_ensembles/D_QS/sample_<k>/{D,QS_1..QS_4}.h5,
+#                                     D at 1 kPa and its quasi-static steps to 100 kPa
 # Restartable: a file whose JSON exists is skipped (the JSON is written under a temporary name
 # and renamed when the run succeeded), so the same command continues an interrupted sweep.
 # Then `jobs/tools/ensemble_moduli.py OUT` tabulates them.
 #   bash jobs/runs/ar_moduli.sh [OUT]
 # GRANPACK=path/to/granpack (default build/granpack); STATES="B Z" restricts the ensembles;
-# PARTS="ens single fig3" restricts what is run.
+# PARTS="ens single fig3 qs" restricts what is run.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 out=${1:-$root/out/moduli}
 exe=${GRANPACK:-$root/build/granpack}
 states=${STATES:-B Z D_10kPa D_10kPa_zeta0.098 D_100kPa}
-parts=${PARTS:-ens single fig3}
+parts=${PARTS:-ens single fig3 qs}
 [ -x "$exe" ] || { echo "ar_moduli: no granpack executable at $exe (set GRANPACK)" >&2; exit 2; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_hwloc_base_binding_policy=${OMPI_MCA_hwloc_base_binding_policy:-none}
@@ -68,7 +70,14 @@ for g in $parts; do
       for f in "$root"/docs/data/fig3/*.h5; do
         stiffness "$f" "$out/fig3/$(basename "$f" .h5).json"
       done ;;
-    *) echo "ar_moduli: unknown group '$g' (ens, single, fig3)" >&2; exit 2 ;;
+    qs)
+      for d in "$root"/jobs/runs/ar_ensembles/D_QS/sample_*; do
+        for f in "$d"/D.h5 "$d"/QS_*.h5; do
+          [ -e "$f" ] || continue
+          stiffness "$f" "$out/qs/D_QS_$(basename "$d")/$(basename "$f" .h5).json"
+        done
+      done ;;
+    *) echo "ar_moduli: unknown group '$g' (ens, single, fig3, qs)" >&2; exit 2 ;;
   esac
 done
 echo "[ar_moduli] $ran run, $skipped already there, $failed failed; results in $out"

@@ -3,12 +3,15 @@
 
 Usage:
   ensemble_moduli.py DIR [--json OUT.json] [--plot G_over_B.png] [--plot-pressure G_of_P.png]
+                    [--plot-qs G_of_P_frictional.png]
 
 DIR is what jobs/runs/ar_moduli.sh writes: DIR/ens/<state>/<sample>.json (one state per
 directory, its samples the files in it), DIR/single/<stem>.json (docs/data/<stem>.h5: one state
 per prefix before "_n4000", e.g. B_n4000_seed1 and B_n4000_seed2 are two samples of "B
 (docs/data)") and DIR/fig3/<stem>.json (A at n = 1372 along its pressure steps: one row per
-file, ordered by pressure). Any of the three may be absent.
+file, ordered by pressure) and DIR/qs/<series>/<stem>.json (a frictional packing along its
+quasi-static pressure steps, e.g. D_QS_sample_1: D at 1 kPa and its steps to 100 kPa, one row
+per file, ordered by pressure). Any of the four may be absent.
 
 Per state, over its K samples: mean, sample standard deviation (ddof = 1; null for K = 1) and
 the values of
@@ -26,7 +29,8 @@ the values of
   Gaff_over_Baff       G_V / B_V of the affine tensor (isotropic contact orientations and
                        r = a give 3 (2 + 3 k_t / k_n) / 10: 0.6 without friction)
 The pressure series gets power-law fits (least squares on the logarithms, "fits" in the JSON):
-B_V and G_V against P, and G_V / B_V against z* - 6 for frictionless samples (z* > 6).
+B_V and G_V against P, and G_V / B_V against z* - 6 for frictionless samples (z* > 6); each
+frictional series ("qs_series", "qs_fits") B_V and G_V against P.
 A sample whose moduli are not defined (moduli_valid false, no elastic_tensor) is left out and
 listed under "excluded". The table on stdout gives mean ± sd; --json writes every number
 (docs/stiffness.md, "Moduli of the [AR] ensembles"). Exit codes: 0, 2 bad input.
@@ -126,14 +130,25 @@ def collect(root):
         singles.setdefault(f.stem.split("_n4000")[0], []).append(f)
     for name, files in singles.items():
         states[f"{name} (docs/data)"] = dict(gather(files), source="single")
-    series = []
-    for f in sorted((root / "fig3").glob("*.json")) if (root / "fig3").is_dir() else []:
+    series = pressure_rows(sorted((root / "fig3").glob("*.json")) if (root / "fig3").is_dir() else [])
+    qs = {}
+    for d in sorted((root / "qs").glob("*")) if (root / "qs").is_dir() else []:
+        files = sorted(d.glob("*.json"))
+        if d.is_dir() and files:
+            qs[d.name] = pressure_rows(files)
+    if not states and not series and not qs:
+        raise InputError(f"{root}: no stiffness JSON under ens/, single/, fig3/ or qs/")
+    return states, series, qs
+
+
+def pressure_rows(files):
+    """One row per file (its quantities, or why it is excluded), ordered by pressure."""
+    rows = []
+    for f in files:
         v, why = sample_values(f)
-        series.append(dict(v, file=f.name) if v else {"file": f.name, "excluded": why})
-    series.sort(key=lambda r: r.get("P", math.inf))
-    if not states and not series:
-        raise InputError(f"{root}: no stiffness JSON under ens/, single/ or fig3/")
-    return states, series
+        rows.append(dict(v, file=f.name) if v else {"file": f.name, "excluded": why})
+    rows.sort(key=lambda r: r.get("P", math.inf))
+    return rows
 
 
 def power_fit(x, y):
@@ -159,6 +174,14 @@ def series_fits(series):
                                                  if d > 0])}
 
 
+def qs_fits(rows):
+    """B_V and G_V against P along a frictional series."""
+    rows = [r for r in rows if "excluded" not in r]
+    p = [r["P"] for r in rows]
+    return {"B_V_vs_P": power_fit(p, [r["B_V"] for r in rows]),
+            "G_V_vs_P": power_fit(p, [r["G_V"] for r in rows])}
+
+
 def pm(s, scale=1.0, digits=3):
     if s["mean"] is None:
         return "-"
@@ -166,7 +189,16 @@ def pm(s, scale=1.0, digits=3):
     return m if s["sd"] is None else f"{m} ± {s['sd'] / scale:.2g}"
 
 
-def print_table(states, series, out=sys.stdout):
+def print_fits(fits, out):
+    for name, f in fits.items():
+        if f and "exponent" in f:
+            print(f"fit {name}: exponent {f['exponent']:.3f}, prefactor {f['prefactor']:.4g} "
+                  f"({f['points']} points)", file=out)
+        elif f:
+            print(f"{name}: {pm(f, 1, 3)} (K = {f['K']})", file=out)
+
+
+def print_table(states, series, qs=None, out=sys.stdout):
     head = ("state", "K", "P (kPa)", "z*", "k", "B_V (MPa)", "B_R", "G_V (MPa)", "G_R", "G/B",
             "1-B/B_aff", "1-G/G_aff")
     print(" | ".join(head), file=out)
@@ -190,12 +222,18 @@ def print_table(states, series, out=sys.stdout):
             print(f"{r['file']} | {r['P'] / 1e3:.4g} | {r['z_star']:.4f} | {r['B_V'] / 1e6:.4g} | "
                   f"{r['G_V'] / 1e6:.4g} | {gr} | {r['G_over_B']:.4g} | {r['nonaffine_G']:.3f}",
                   file=out)
-        for name, f in series_fits(series).items():
-            if f and "exponent" in f:
-                print(f"fit {name}: exponent {f['exponent']:.3f}, prefactor {f['prefactor']:.4g} "
-                      f"({f['points']} points)", file=out)
-            elif f:
-                print(f"{name}: {pm(f, 1, 3)} (K = {f['K']})", file=out)
+        print_fits(series_fits(series), out)
+    for name, rows in (qs or {}).items():
+        print(f"\nfrictional pressure series {name}", file=out)
+        print("file | P (kPa) | phi | z* | k | B_V (MPa) | G_V (MPa) | G/B | 1-G/G_aff", file=out)
+        for r in rows:
+            if "excluded" in r:
+                print(f"{r['file']} | excluded: {r['excluded']}", file=out)
+                continue
+            print(f"{r['file']} | {r['P'] / 1e3:.4g} | {r['phi']:.4f} | {r['z_star']:.4f} | "
+                  f"{r['k']:.0f} | {r['B_V'] / 1e6:.4g} | {r['G_V'] / 1e6:.4g} | "
+                  f"{r['G_over_B']:.4g} | {r['nonaffine_G']:.3f}", file=out)
+        print_fits(qs_fits(rows), out)
 
 
 def plot_g_over_b(states, series, path):
@@ -272,6 +310,41 @@ def plot_pressure(series, path):
     fig.savefig(path)
 
 
+def plot_qs(qs, path):
+    """Each frictional series: B and G against P (log-log), and G/B against z*."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    if not qs:
+        raise InputError("--plot-qs: no frictional pressure series (DIR/qs/<series>/*.json)")
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.8), dpi=110)
+    for i, (name, rows) in enumerate(qs.items()):
+        rows = [r for r in rows if "excluded" not in r]
+        p = np.array([r["P"] for r in rows])
+        ax.loglog(p, [r["B_V"] for r in rows], "o-", color=f"C{i}", label=f"B, {name}")
+        ax.loglog(p, [r["G_V"] for r in rows], "s--", color=f"C{i}", label=f"G, {name}")
+        bx.plot([r["z_star"] for r in rows], [r["G_over_B"] for r in rows], "o-", color=f"C{i}",
+                label=name)
+        for r in rows:
+            bx.annotate(f"{r['P'] / 1e3:.3g} kPa", (r["z_star"], r["G_over_B"]), fontsize=6,
+                        xytext=(4, -8), textcoords="offset points")
+    if len(p) >= 2:  # P^(1/3), the affine Hertz scaling, through the first series' first B
+        b0 = qs[next(iter(qs))][0]["B_V"]
+        ax.loglog(p, b0 * (p / p[0]) ** (1 / 3), ":", color="gray", label="∝ P^(1/3)")
+    ax.set_xlabel("P (Pa)")
+    ax.set_ylabel("Voigt modulus (Pa)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    ax.set_title("(a) moduli along the quasi-static steps", fontsize=8)
+    bx.set_xlabel("backbone coordination z*")
+    bx.set_ylabel("G_V / B_V")
+    bx.grid(alpha=0.3)
+    bx.legend(fontsize=7)
+    bx.set_title("(b) G/B follows z*", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -279,19 +352,23 @@ def main(argv=None):
     ap.add_argument("--json", help="write the summary here (docs/data/ensembles/moduli.json)")
     ap.add_argument("--plot", help="G/B against z* (PNG)")
     ap.add_argument("--plot-pressure", help="B and G against P along the fig3 series (PNG)")
+    ap.add_argument("--plot-qs", help="B, G and G/B along the frictional series (PNG)")
     a = ap.parse_args(argv)
     try:
-        states, series = collect(a.dir)
-        print_table(states, series)
+        states, series, qs = collect(a.dir)
+        print_table(states, series, qs)
         if a.json:
             doc = {"description": "granpack stiffness moduli per state: mean, sd (ddof=1), K, "
                                   "values (jobs/tools/ensemble_moduli.py; units Pa)",
-                   "states": states, "pressure_series": series, "fits": series_fits(series)}
+                   "states": states, "pressure_series": series, "fits": series_fits(series),
+                   "qs_series": qs, "qs_fits": {n: qs_fits(r) for n, r in qs.items()}}
             Path(a.json).write_text(json.dumps(doc, indent=1) + "\n")
         if a.plot:
             plot_g_over_b(states, series, a.plot)
         if a.plot_pressure:
             plot_pressure(series, a.plot_pressure)
+        if a.plot_qs:
+            plot_qs(qs, a.plot_qs)
     except InputError as e:
         print(f"{PROG}: error: {e}", file=sys.stderr)
         return 2

@@ -138,6 +138,11 @@ sample(f"{root}/ens/X/sample_2.json", 3.2e7, 1.4e7, 4e7, 5e7, 9100, 3500, 1001, 
 sample(f"{root}/ens/X/sample_3.json", 2.9e7, 1.6e7, 5e7, 4e7, 8900, 3700, 999, 90)
 sample(f"{root}/ens/X/sample_4.json", 1, 1, 1, 1, 1, 1, 1, 1, valid=False)
 sample(f"{root}/single/Y_n4000_seed1.json", 8e7, 1e6, 1e8, 6e7, 12000, 3950, 1e4, 3)
+# A frictional pressure series, files named out of pressure order: B = 1e7 (P/1e3)^0.35,
+# G = 5e6 (P/1e3)^0.4
+for stem, p in (("QS_2", 1e5), ("D", 1e3), ("QS_1", 1e4)):
+    sample(f"{root}/qs/S/{stem}.json", 1e7 * (p / 1e3) ** 0.35, 5e6 * (p / 1e3) ** 0.4, 2e7, 2e7,
+           9000, 4000, p, 90)
 PY
 check "synthetic inputs written" '[ -s "$scratch/syn/single/Y_n4000_seed1.json" ]' || cat "$scratch/mk.txt"
 check_exit "ensemble_moduli.py on the synthetic set" 0 "$scratch/tool.txt" \
@@ -166,6 +171,14 @@ same("mean k", x["k"]["mean"], 100)
 same("sd P", x["P"]["sd"], 1.0)
 same("G reduced", x["G_reduced"]["values"][0], 1.5e7 / 1e8)
 check("Y: K = 1, sd null", s["Y (docs/data)"]["K"] == 1 and y["B_V"]["sd"] is None and y["B_V"]["mean"] == 8e7)
+doc = json.load(open(sys.argv[1]))
+rows = doc["qs_series"]["S"]
+check(f"qs series S ordered by pressure: {[r['file'] for r in rows]}",
+      [r["file"] for r in rows] == ["D.json", "QS_1.json", "QS_2.json"])
+f = doc["qs_fits"]["S"]
+same("qs: B_V exponent", f["B_V_vs_P"]["exponent"], 0.35)
+same("qs: G_V exponent", f["G_V_vs_P"]["exponent"], 0.4)
+same("qs: G_V prefactor", f["G_V_vs_P"]["prefactor"] * 1e3 ** 0.4, 5e6)
 PY
 checks_from "the ensemble tool checks" "$scratch/py2.txt" $?
 check "the table prints X with mean ± sd" "grep -q '^X | 3 | ' '$scratch/tool.txt'" || cat "$scratch/tool.txt"
