@@ -328,9 +328,10 @@ def plot_qs(qs, path):
         for r in rows:
             bx.annotate(f"{r['P'] / 1e3:.3g} kPa", (r["z_star"], r["G_over_B"]), fontsize=6,
                         xytext=(4, -8), textcoords="offset points")
-    if len(p) >= 2:  # P^(1/3), the affine Hertz scaling, through the first series' first B
-        b0 = qs[next(iter(qs))][0]["B_V"]
-        ax.loglog(p, b0 * (p / p[0]) ** (1 / 3), ":", color="gray", label="∝ P^(1/3)")
+    first = [r for r in qs[next(iter(qs))] if "excluded" not in r]
+    if len(first) >= 2:  # P^(1/3), the Hertz scaling on a fixed network, through the first B
+        p = np.array([r["P"] for r in first])
+        ax.loglog(p, first[0]["B_V"] * (p / p[0]) ** (1 / 3), ":", color="gray", label="∝ P^(1/3)")
     ax.set_xlabel("P (Pa)")
     ax.set_ylabel("Voigt modulus (Pa)")
     ax.grid(alpha=0.3, which="both")
