@@ -165,17 +165,15 @@ def series_fits(series):
     rows = [r for r in series if "excluded" not in r]
     if not rows:
         return {}
-    p = [r["P"] for r in rows]
     dz = [r["z_star"] - 6 for r in rows]
-    return {"B_V_vs_P": power_fit(p, [r["B_V"] for r in rows]),
-            "G_V_vs_P": power_fit(p, [r["G_V"] for r in rows]),
+    return {**qs_fits(rows),
             "G_over_B_vs_zstar_minus_6": power_fit(dz, [r["G_over_B"] for r in rows]),
             "G_over_B_per_zstar_minus_6": stats([r["G_over_B"] / d for r, d in zip(rows, dz)
                                                  if d > 0])}
 
 
 def qs_fits(rows):
-    """B_V and G_V against P along a frictional series."""
+    """B_V and G_V against P along a pressure series (frictional or not)."""
     rows = [r for r in rows if "excluded" not in r]
     p = [r["P"] for r in rows]
     return {"B_V_vs_P": power_fit(p, [r["B_V"] for r in rows]),

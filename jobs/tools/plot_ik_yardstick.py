@@ -16,9 +16,9 @@ or one configuration's `granpack analyze --json` file (its `density`).
 import argparse
 
 import numpy as np
-from scipy.special import hyp2f1
 
 import granpack_io as gio
+from plot_analysis import eq28_over_a2  # [GRC] eq. (28), as granpack evaluates it
 
 import matplotlib
 matplotlib.use("Agg")
@@ -28,15 +28,6 @@ PROG = "plot_ik_yardstick.py"
 # [GRC] table VII: (d_F, xi/a).
 GRC = {"[GRC] no RR, P* = 0": (1.925, 8.29), "[GRC] RR, P* = 0": (1.53, 9.3),
        "[GRC] RR, P* = 0.01": (1.51, 5.06)}
-
-
-def eq28_shape(k, d_f, xi):
-    """Eq. (28) without its constant, up to its amplitude, through the Legendre form that
-    converges for every k (docs/analysis.md): (p^2 + k^2)^(-d/2) P_(d-1)(p / sqrt(p^2 + k^2))."""
-    p = 1.0 / xi
-    x = p / np.sqrt(p * p + k * k)
-    nu = d_f - 1.0
-    return (p * p + k * k) ** (-d_f / 2) * hyp2f1(-nu, nu + 1.0, 1.0, (1.0 - x) / 2.0)
 
 
 def pooled(spec):
@@ -76,8 +67,9 @@ def main():
         ax.loglog(k, y, "o-", ms=3, lw=1, label=label)
     k = np.geomspace(2 * np.pi / 55.3, 2 * np.pi, 200)
     for label, (d_f, xi) in GRC.items():
-        y = eq28_shape(k, d_f, xi)
-        ax.loglog(k, y / eq28_shape(1.0, d_f, xi), "--", lw=1.5, label=f"{label} (eq. 28)")
+        y = eq28_over_a2(k, d_f, xi, 0.0, 1.0)  # Cst = 0; the amplitude cancels below
+        ax.loglog(k, y / eq28_over_a2([1.0], d_f, xi, 0.0, 1.0)[0], "--", lw=1.5,
+                  label=f"{label} (eq. 28)")
     ax.set_xlabel("k a")
     ax.set_ylabel("I(k) / I(1/a)")
     ax.set_title("Density fluctuations from the grain to the cell scale")
