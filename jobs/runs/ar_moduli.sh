@@ -11,18 +11,28 @@
 #   OUT/fig3/<stem>.json              docs/data/fig3/<stem>.h5, A at n = 1372 from 100 Pa to 1 MPa
 #   OUT/qs/D_QS_sample_<k>/<stem>.json  jobs/runs/ar_ensembles/D_QS/sample_<k>/{D,QS_1..QS_4}.h5,
 #                                     D at 1 kPa and its quasi-static steps to 100 kPa
+#   OUT/ens/<name>/sample_<k>.json    the regenerated ensembles whose configurations are not
+#                                     committed (A, C, D, A' of table IV; their summaries are
+#                                     in docs/data/ensembles/): out/ens/<state>/sample_<k>/<stem>.h5
+#                                     for each RERUN entry state:stem:name (default
+#                                     "C:A:A C:C:C D_QS:D:D A_prime:A_prime:A_prime"), after
+#                                     `bash jobs/runs/ar_ensembles.sh C D_QS A_prime`; a sample
+#                                     whose stem file is missing (unfinished) is skipped
 # Restartable: a file whose JSON exists is skipped (the JSON is written under a temporary name
 # and renamed when the run succeeded), so the same command continues an interrupted sweep.
 # Then `jobs/tools/ensemble_moduli.py OUT` tabulates them.
 #   bash jobs/runs/ar_moduli.sh [OUT]
 # GRANPACK=path/to/granpack (default build/granpack); STATES="B Z" restricts the ensembles;
-# PARTS="ens single fig3 qs" restricts what is run.
+# PARTS="ens single fig3 qs rerun" restricts what is run; ENS_OUT (default out/ens) is where
+# the rerun group finds the regenerated samples.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 out=${1:-$root/out/moduli}
 exe=${GRANPACK:-$root/build/granpack}
 states=${STATES:-B Z D_10kPa D_10kPa_zeta0.098 D_100kPa}
-parts=${PARTS:-ens single fig3 qs}
+parts=${PARTS:-ens single fig3 qs rerun}
+reruns=${RERUN:-C:A:A C:C:C D_QS:D:D A_prime:A_prime:A_prime}
+ens_out=${ENS_OUT:-$root/out/ens}
 [ -x "$exe" ] || { echo "ar_moduli: no granpack executable at $exe (set GRANPACK)" >&2; exit 2; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_hwloc_base_binding_policy=${OMPI_MCA_hwloc_base_binding_policy:-none}
@@ -77,7 +87,20 @@ for g in $parts; do
           stiffness "$f" "$out/qs/D_QS_$(basename "$d")/$(basename "$f" .h5).json"
         done
       done ;;
-    *) echo "ar_moduli: unknown group '$g' (ens, single, fig3, qs)" >&2; exit 2 ;;
+    rerun)
+      for entry in $reruns; do
+        IFS=: read -r state stem name <<< "$entry"
+        [ -n "$name" ] || { echo "ar_moduli: RERUN entry '$entry' is not state:stem:name" >&2; exit 2; }
+        for d in "$ens_out/$state"/sample_*; do
+          [ -d "$d" ] || continue
+          if [ -e "$d/$stem.h5" ] && [ -e "$d/report.json" ]; then
+            stiffness "$d/$stem.h5" "$out/ens/$name/$(basename "$d").json"
+          else
+            echo "[ar_moduli] $state/$(basename "$d"): no $stem.h5 of a finished run: skipped"
+          fi
+        done
+      done ;;
+    *) echo "ar_moduli: unknown group '$g' (ens, single, fig3, qs, rerun)" >&2; exit 2 ;;
   esac
 done
 echo "[ar_moduli] $ran run, $skipped already there, $failed failed; results in $out"

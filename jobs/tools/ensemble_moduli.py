@@ -26,6 +26,11 @@ the values of
   B_reduced, G_reduced B_V, G_V / (E~^(2/3) P^(1/3)) (E~ = E / (1 - nu^2), from the file's
                        bulk_modulus_reduced)
   B_over_eq30          B over [AR] eq. (30) with the sample's own z, Phi, Z(5/3)
+  c11 c22 c33 c44 c55 c66   the diagonal of the Voigt tensor (Pa; 2D: c11 c22 c66), and
+  shear_c44, shear_c11_c12  the two cubic-type shear moduli, mean(c44, c55, c66) and
+                       (mean c_aa - mean c_ab) / 2: an isotropic state has c11 = c22 = c33 and
+                       c44 = c55 = c66 = (c11 - c12) / 2 within its sample scatter, which the
+                       "isotropy" table on stdout shows (issue 28)
   Gaff_over_Baff       G_V / B_V of the affine tensor (isotropic contact orientations and
                        r = a give 3 (2 + 3 k_t / k_n) / 10: 0.6 without friction)
 The pressure series gets power-law fits (least squares on the logarithms, "fits" in the JSON):
@@ -48,7 +53,10 @@ import granpack_io as gio
 PROG = "ensemble_moduli.py"
 QUANTITIES = ("B_V", "B_R", "G_V", "G_R", "G_over_B", "nonaffine_B", "nonaffine_G", "B_affine",
               "G_affine", "k", "z_star", "P", "phi", "H_over_Nf", "B_reduced", "G_reduced",
-              "B_over_eq30", "Gaff_over_Baff")
+              "B_over_eq30", "Gaff_over_Baff", "c11", "c22", "c33", "c44", "c55", "c66",
+              "shear_c44", "shear_c11_c12")
+# The diagonal entries of the Voigt tensor by their place in voigt_order.
+DIAGONAL = {"c11": "xx", "c22": "yy", "c33": "zz", "c44": "yz", "c55": "xz", "c66": "xy"}
 
 
 class InputError(Exception):
@@ -87,7 +95,11 @@ def sample_values(path):
         "B_reduced": bv * scale if scale else None, "G_reduced": gv * scale if scale else None,
         "B_over_eq30": j.get("bulk_modulus_over_eq30"),
         "Gaff_over_Baff": ga / ba,
+        "shear_c44": e.get("shear_c44"), "shear_c11_c12": e.get("shear_c11_c12"),
     }
+    order = e.get("voigt_order") or [] if "c" in e else []
+    for name, comp in DIAGONAL.items():
+        v[name] = float(e["c"][order.index(comp)][order.index(comp)]) if comp in order else None
     return v, None
 
 
@@ -209,6 +221,13 @@ def print_table(states, series, qs=None, out=sys.stdout):
         print(" | ".join(cells), file=out)
         for x in s["excluded"]:
             print(f"  excluded: {x['file']}: {x['why']}", file=out)
+    print("\nisotropy (MPa, mean ± sd over the samples)", file=out)
+    print("state | K | c11 | c22 | c33 | c44 | c55 | c66 | (c11-c12)/2", file=out)
+    for name, s in states.items():
+        q = s["quantities"]
+        cells = [name, str(s["K"])] + [pm(q[c], 1e6, 4) for c in
+                                       ("c11", "c22", "c33", "c44", "c55", "c66", "shear_c11_c12")]
+        print(" | ".join(cells), file=out)
     if series:
         print("\npressure series (docs/data/fig3, one sample)", file=out)
         print("file | P (kPa) | z* | B_V (MPa) | G_V (MPa) | G_R (MPa) | G/B | 1-G/G_aff", file=out)
