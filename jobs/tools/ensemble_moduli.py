@@ -30,7 +30,10 @@ the values of
   shear_c44, shear_c11_c12  the two cubic-type shear moduli, mean(c44, c55, c66) and
                        (mean c_aa - mean c_ab) / 2: an isotropic state has c11 = c22 = c33 and
                        c44 = c55 = c66 = (c11 - c12) / 2 within its sample scatter, which the
-                       "isotropy" table on stdout shows (issue 28)
+                       "isotropy" table on stdout shows (issue 28): per state, "isotropy" in
+                       the JSON gives for the axial and the shear group the largest |t| of the
+                       paired differences between two of its entries over the samples,
+                       t = mean(a - b) / (sd(a - b) / sqrt(K)), with the pair
   Gaff_over_Baff       G_V / B_V of the affine tensor (isotropic contact orientations and
                        r = a give 3 (2 + 3 k_t / k_n) / 10: 0.6 without friction)
 The pressure series gets power-law fits (least squares on the logarithms, "fits" in the JSON):
@@ -113,6 +116,38 @@ def stats(values):
             "sd": float(a.std(ddof=1)) if len(x) > 1 else None, "values": x}
 
 
+# The entries an isotropic state has equal: the axial diagonal, and the shear diagonal with the
+# cubic-type (c11 - c12) / 2.
+ISOTROPY_GROUPS = {"axial": ("c11", "c22", "c33"),
+                   "shear": ("c44", "c55", "c66", "shear_c11_c12")}
+
+
+def isotropy(rows):
+    """Per group, the largest |t| over the pairs (a, b) of its entries, t = mean(a - b) /
+    (sd(a - b) / sqrt(K)): the paired difference over the samples in units of its standard
+    error. An isotropic state gives |t| of order 1; None with fewer than 2 samples (or in 2D,
+    where the axial group has no c33)."""
+    out = {}
+    for group, names in ISOTROPY_GROUPS.items():
+        worst = None
+        for i, a in enumerate(names):
+            for b in names[i + 1:]:
+                d = [r[a] - r[b] for r in rows if r.get(a) is not None and r.get(b) is not None]
+                if len(d) < 2 or len(d) < len(rows):
+                    worst = None
+                    break
+                se = float(np.std(d, ddof=1)) / math.sqrt(len(d))
+                t = abs(float(np.mean(d))) / se if se > 0 else math.inf
+                if worst is None or t > worst["t"]:
+                    worst = {"t": t, "pair": [a, b], "mean_difference": float(np.mean(d)),
+                             "standard_error": se}
+            else:
+                continue
+            break
+        out[group] = worst
+    return out
+
+
 def gather(files):
     """{quantity: stats} over the files, the samples used and the excluded ones."""
     rows, used, excluded = [], [], []
@@ -124,7 +159,8 @@ def gather(files):
             rows.append(v)
             used.append(f.name)
     out = {q: stats([r[q] for r in rows]) for q in QUANTITIES}
-    return {"K": len(rows), "samples": used, "excluded": excluded, "quantities": out}
+    return {"K": len(rows), "samples": used, "excluded": excluded, "quantities": out,
+            "isotropy": isotropy(rows)}
 
 
 def collect(root):
@@ -222,11 +258,15 @@ def print_table(states, series, qs=None, out=sys.stdout):
         for x in s["excluded"]:
             print(f"  excluded: {x['file']}: {x['why']}", file=out)
     print("\nisotropy (MPa, mean ± sd over the samples)", file=out)
-    print("state | K | c11 | c22 | c33 | c44 | c55 | c66 | (c11-c12)/2", file=out)
+    print("state | K | c11 | c22 | c33 | c44 | c55 | c66 | (c11-c12)/2 | max |t| axial, shear",
+          file=out)
     for name, s in states.items():
         q = s["quantities"]
         cells = [name, str(s["K"])] + [pm(q[c], 1e6, 4) for c in
                                        ("c11", "c22", "c33", "c44", "c55", "c66", "shear_c11_c12")]
+        iso = s.get("isotropy") or {}
+        cells.append(", ".join("-" if iso.get(g) is None else f"{iso[g]['t']:.2f}"
+                               for g in ISOTROPY_GROUPS))
         print(" | ".join(cells), file=out)
     if series:
         print("\npressure series (docs/data/fig3, one sample)", file=out)

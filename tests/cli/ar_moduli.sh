@@ -125,17 +125,28 @@ checks_from "the moduli checks" "$scratch/py.txt" $?
 /usr/bin/python3 - "$scratch/syn" > "$scratch/mk.txt" 2>&1 <<'PY'
 import json, os, sys
 root = sys.argv[1]
-def sample(path, b, g, ba, ga, nc, nstar, p, k, valid=True, br=None, gr=None):
+def sample(path, b, g, ba, ga, nc, nstar, p, k, valid=True, br=None, gr=None, diag=None):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     e = {"bulk_voigt": b, "shear_voigt": g, "bulk_reuss": br or 0.99 * b, "shear_reuss": gr or 0.98 * g,
          "affine": {"bulk_voigt": ba, "shear_voigt": ga}}
+    if diag:  # a Voigt tensor in the order yz, xz, xy, xx, yy, zz (the tool must follow voigt_order)
+        order = ["yz", "xz", "xy", "xx", "yy", "zz"]
+        c = [[4e7 if r >= 3 and q >= 3 else 0.0 for q in range(6)] for r in range(6)]
+        for r in range(6):
+            c[r][r] = diag[r]
+        e.update(c=c, voigt_order=order, shear_c44=sum(diag[:3]) / 3,
+                 shear_c11_c12=(sum(diag[3:]) / 3 - 4e7) / 2)
     j = {"backbone_contacts": nc, "backbone_grains": nstar, "pressure": p, "phi": 0.6, "mechanisms": k,
          "H_over_Nf": 0.1, "bulk_modulus": b, "bulk_modulus_reduced": b / 1e8, "moduli_valid": valid,
          "elastic_tensor": e if valid else None}
     json.dump(j, open(path, "w"))
-sample(f"{root}/ens/X/sample_1.json", 3e7, 1.5e7, 4e7, 4e7, 9000, 3600, 1000, 100)
-sample(f"{root}/ens/X/sample_2.json", 3.2e7, 1.4e7, 4e7, 5e7, 9100, 3500, 1001, 110)
-sample(f"{root}/ens/X/sample_3.json", 2.9e7, 1.6e7, 5e7, 4e7, 8900, 3700, 999, 90)
+# Diagonals (yz, xz, xy, xx, yy, zz): c44 = yz, c55 = xz, c66 = xy, c11 = xx, ...
+sample(f"{root}/ens/X/sample_1.json", 3e7, 1.5e7, 4e7, 4e7, 9000, 3600, 1000, 100,
+       diag=[3.0e7, 3.1e7, 2.9e7, 10e7, 11e7, 12e7])
+sample(f"{root}/ens/X/sample_2.json", 3.2e7, 1.4e7, 4e7, 5e7, 9100, 3500, 1001, 110,
+       diag=[3.2e7, 3.0e7, 3.1e7, 10.5e7, 10e7, 11e7])
+sample(f"{root}/ens/X/sample_3.json", 2.9e7, 1.6e7, 5e7, 4e7, 8900, 3700, 999, 90,
+       diag=[2.8e7, 2.9e7, 3.3e7, 9e7, 10.5e7, 12.5e7])
 sample(f"{root}/ens/X/sample_4.json", 1, 1, 1, 1, 1, 1, 1, 1, valid=False)
 sample(f"{root}/single/Y_n4000_seed1.json", 8e7, 1e6, 1e8, 6e7, 12000, 3950, 1e4, 3)
 # A frictional pressure series, files named out of pressure order: B = 1e7 (P/1e3)^0.35,
@@ -171,6 +182,24 @@ same("mean k", x["k"]["mean"], 100)
 same("sd P", x["P"]["sd"], 1.0)
 same("G reduced", x["G_reduced"]["values"][0], 1.5e7 / 1e8)
 check("Y: K = 1, sd null", s["Y (docs/data)"]["K"] == 1 and y["B_V"]["sd"] is None and y["B_V"]["mean"] == 8e7)
+# The Voigt diagonal by voigt_order, and the isotropy t of the paired differences
+diags = [[3.0e7, 3.1e7, 2.9e7, 10e7, 11e7, 12e7], [3.2e7, 3.0e7, 3.1e7, 10.5e7, 10e7, 11e7],
+         [2.8e7, 2.9e7, 3.3e7, 9e7, 10.5e7, 12.5e7]]
+same("c11 mean (xx)", x["c11"]["mean"], statistics.mean(d[3] for d in diags))
+same("c33 sd (zz)", x["c33"]["sd"], statistics.stdev(d[5] for d in diags))
+same("c66 mean (xy)", x["c66"]["mean"], statistics.mean(d[2] for d in diags))
+def t_of(a, b):
+    diff = [u - v for u, v in zip(a, b)]
+    return abs(statistics.mean(diff)) / (statistics.stdev(diff) / len(diff) ** 0.5)
+axial = {(i, j): t_of([d[3 + i] for d in diags], [d[3 + j] for d in diags])
+         for i in range(3) for j in range(i + 1, 3)}
+iso = s["X"]["isotropy"]
+same("isotropy: axial max |t|", iso["axial"]["t"], max(axial.values()))
+check(f"isotropy: axial pair {iso['axial']['pair']} is c22, c33", iso["axial"]["pair"] == ["c22", "c33"])
+shear = [[d[0], d[1], d[2], (statistics.mean(d[3:]) - 4e7) / 2] for d in diags]
+tmax = max(t_of([r[i] for r in shear], [r[j] for r in shear]) for i in range(4) for j in range(i + 1, 4))
+same("isotropy: shear max |t| (c44, c55, c66, (c11 - c12)/2)", iso["shear"]["t"], tmax)
+check("isotropy of a one-sample state is null", s["Y (docs/data)"]["isotropy"]["axial"] is None)
 doc = json.load(open(sys.argv[1]))
 rows = doc["qs_series"]["S"]
 check(f"qs series S ordered by pressure: {[r['file'] for r in rows]}",
