@@ -125,25 +125,22 @@ ISOTROPY_GROUPS = {"axial": ("c11", "c22", "c33"),
 def isotropy(rows):
     """Per group, the largest |t| over the pairs (a, b) of its entries, t = mean(a - b) /
     (sd(a - b) / sqrt(K)): the paired difference over the samples in units of its standard
-    error. An isotropic state gives |t| of order 1; None with fewer than 2 samples (or in 2D,
-    where the axial group has no c33)."""
+    error. An isotropic state gives |t| of order 1; None with fewer than 2 samples, or when an
+    entry is missing (2D has no c33, c44, c55)."""
     out = {}
     for group, names in ISOTROPY_GROUPS.items():
+        if len(rows) < 2 or any(r.get(n) is None for r in rows for n in names):
+            out[group] = None
+            continue
         worst = None
         for i, a in enumerate(names):
             for b in names[i + 1:]:
-                d = [r[a] - r[b] for r in rows if r.get(a) is not None and r.get(b) is not None]
-                if len(d) < 2 or len(d) < len(rows):
-                    worst = None
-                    break
-                se = float(np.std(d, ddof=1)) / math.sqrt(len(d))
-                t = abs(float(np.mean(d))) / se if se > 0 else math.inf
+                d = np.array([r[a] - r[b] for r in rows])
+                se = float(d.std(ddof=1)) / math.sqrt(len(d))
+                t = abs(float(d.mean())) / se if se > 0 else math.inf
                 if worst is None or t > worst["t"]:
-                    worst = {"t": t, "pair": [a, b], "mean_difference": float(np.mean(d)),
+                    worst = {"t": t, "pair": [a, b], "mean_difference": float(d.mean()),
                              "standard_error": se}
-            else:
-                continue
-            break
         out[group] = worst
     return out
 
