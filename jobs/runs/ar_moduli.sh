@@ -59,18 +59,26 @@ stiffness() {
   fi
 }
 
+# ensemble DIR STEM NAME: the stiffness of DIR/sample_<k>/STEM.h5 into OUT/ens/NAME/sample_<k>.json
+# for every finished sample (its report.json written); a sample with only a checkpoint is an
+# unfinished run, not an equilibrium state, and is skipped.
+ensemble() {
+  local dir=$1 stem=$2 name=$3 d
+  for d in "$dir"/sample_*; do
+    [ -d "$d" ] || continue
+    if [ -e "$d/$stem.h5" ] && [ -e "$d/report.json" ]; then
+      stiffness "$d/$stem.h5" "$out/ens/$name/$(basename "$d").json"
+    else
+      echo "[ar_moduli] $name/$(basename "$d"): no $stem.h5 of a finished run (only a checkpoint?): skipped"
+    fi
+  done
+}
+
 for g in $parts; do
   case $g in
     ens)
       for s in $states; do
-        for d in "$root"/jobs/runs/ar_ensembles/"$s"/sample_*; do
-          [ -d "$d" ] || continue
-          if [ -e "$d/final.h5" ]; then
-            stiffness "$d/final.h5" "$out/ens/$s/$(basename "$d").json"
-          else
-            echo "[ar_moduli] $s/$(basename "$d"): no final.h5, only a checkpoint (an unfinished run, not an equilibrium state): skipped"
-          fi
-        done
+        ensemble "$root/jobs/runs/ar_ensembles/$s" final "$s"
       done ;;
     single)
       for f in "$root"/docs/data/*_n4000_seed*.h5; do
@@ -91,14 +99,7 @@ for g in $parts; do
       for entry in $reruns; do
         IFS=: read -r state stem name <<< "$entry"
         [ -n "$name" ] || { echo "ar_moduli: RERUN entry '$entry' is not state:stem:name" >&2; exit 2; }
-        for d in "$ens_out/$state"/sample_*; do
-          [ -d "$d" ] || continue
-          if [ -e "$d/$stem.h5" ] && [ -e "$d/report.json" ]; then
-            stiffness "$d/$stem.h5" "$out/ens/$name/$(basename "$d").json"
-          else
-            echo "[ar_moduli] $state/$(basename "$d"): no $stem.h5 of a finished run: skipped"
-          fi
-        done
+        ensemble "$ens_out/$state" "$stem" "$name"
       done ;;
     *) echo "ar_moduli: unknown group '$g' (ens, single, fig3, qs, rerun)" >&2; exit 2 ;;
   esac

@@ -33,7 +33,7 @@ the values of
                        "isotropy" table on stdout shows (issue 28): per state, "isotropy" in
                        the JSON gives for the axial and the shear group the largest |t| of the
                        paired differences between two of its entries over the samples,
-                       t = mean(a - b) / (sd(a - b) / sqrt(K)), with the pair
+                       t = mean(a - b) / (sd(a - b) / sqrt(K)), and the pair that gives it
   Gaff_over_Baff       G_V / B_V of the affine tensor (isotropic contact orientations and
                        r = a give 3 (2 + 3 k_t / k_n) / 10: 0.6 without friction)
 The pressure series gets power-law fits (least squares on the logarithms, "fits" in the JSON):
@@ -44,6 +44,7 @@ listed under "excluded". The table on stdout gives mean ± sd; --json writes eve
 (docs/stiffness.md, "Moduli of the [AR] ensembles"). Exit codes: 0, 2 bad input.
 """
 import argparse
+import itertools
 import json
 import math
 import sys
@@ -100,7 +101,7 @@ def sample_values(path):
         "Gaff_over_Baff": ga / ba,
         "shear_c44": e.get("shear_c44"), "shear_c11_c12": e.get("shear_c11_c12"),
     }
-    order = e.get("voigt_order") or [] if "c" in e else []
+    order = e.get("voigt_order", []) if "c" in e else []
     for name, comp in DIAGONAL.items():
         v[name] = float(e["c"][order.index(comp)][order.index(comp)]) if comp in order else None
     return v, None
@@ -133,14 +134,12 @@ def isotropy(rows):
             out[group] = None
             continue
         worst = None
-        for i, a in enumerate(names):
-            for b in names[i + 1:]:
-                d = np.array([r[a] - r[b] for r in rows])
-                se = float(d.std(ddof=1)) / math.sqrt(len(d))
-                t = abs(float(d.mean())) / se if se > 0 else math.inf
-                if worst is None or t > worst["t"]:
-                    worst = {"t": t, "pair": [a, b], "mean_difference": float(d.mean()),
-                             "standard_error": se}
+        for a, b in itertools.combinations(names, 2):
+            d = stats([r[a] - r[b] for r in rows])
+            se = d["sd"] / math.sqrt(d["K"])
+            t = abs(d["mean"]) / se if se > 0 else math.inf
+            if worst is None or t > worst["t"]:
+                worst = {"t": t, "pair": [a, b], "mean_difference": d["mean"], "standard_error": se}
         out[group] = worst
     return out
 
