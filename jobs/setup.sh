@@ -21,7 +21,7 @@ packages=(
   petsc-dev slepc-dev libmetis-dev
   libopenblas0-pthread   # becomes libblas.so.3: MUMPS factorisations 10-100x faster (docs/stiffness.md)
   libeigen3-dev libfftw3-dev libtoml11-dev libcli11-dev nlohmann-json3-dev libgtest-dev
-  python3-numpy python3-h5py python3-matplotlib
+  python3-numpy python3-scipy python3-h5py python3-matplotlib  # scipy: tests/support/hertz_moduli.py, jobs/tools/refit_ik.py
   clang-format   # tests/cli/format.sh checks the layout of the C++ files
 )
 # The test suite also opens files in ParaView (tests/cli/paraview.sh, docs/visualisation.md):
