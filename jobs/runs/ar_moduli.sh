@@ -9,7 +9,8 @@
 #   OUT/single/<stem>.json            docs/data/<stem>.h5, one sample per state (A, A', C, D:
 #                                     the only committed configurations of those states)
 #   OUT/fig3/<stem>.json              docs/data/fig3/<stem>.h5, A at n = 1372 from 100 Pa to 1 MPa
-#   OUT/qs/D_QS_sample_<k>/<stem>.json  jobs/runs/ar_ensembles/D_QS/sample_<k>/{D,QS_1..QS_4}.h5,
+#   OUT/qs/D_QS_sample_<k>/<stem>.json  jobs/runs/ar_ensembles/D_QS/sample_<k>/{D,QS_1..QS_4}.h5
+#                                     and ENS_OUT/D_QS/sample_<k>/ (finished samples: report.json),
 #                                     D at 1 kPa and its quasi-static steps to 100 kPa
 #   OUT/ens/<name>/sample_<k>.json    the regenerated ensembles whose configurations are not
 #                                     committed (A, C, D, A' of table IV; their summaries are
@@ -24,7 +25,7 @@
 #   bash jobs/runs/ar_moduli.sh [OUT]
 # GRANPACK=path/to/granpack (default build/granpack); STATES="B Z" restricts the ensembles;
 # PARTS="ens single fig3 qs rerun" restricts what is run; ENS_OUT (default out/ens) is where
-# the rerun group finds the regenerated samples.
+# the rerun and qs groups find the regenerated samples.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 out=${1:-$root/out/moduli}
@@ -66,7 +67,11 @@ ensemble() {
   local dir=$1 stem=$2 name=$3 d
   for d in "$dir"/sample_*; do
     [ -d "$d" ] || continue
-    if [ -e "$d/$stem.h5" ] && [ -e "$d/report.json" ]; then
+    # Its JSON already there (e.g. restored from jobs/runs/ar_moduli_json on a machine without
+    # the configuration): nothing to run.
+    if [ -s "$out/ens/$name/$(basename "$d").json" ]; then
+      skipped=$((skipped + 1))
+    elif [ -e "$d/$stem.h5" ] && [ -e "$d/report.json" ]; then
       stiffness "$d/$stem.h5" "$out/ens/$name/$(basename "$d").json"
     else
       echo "[ar_moduli] $name/$(basename "$d"): no $stem.h5 of a finished run (only a checkpoint?): skipped"
@@ -89,7 +94,10 @@ for g in $parts; do
         stiffness "$f" "$out/fig3/$(basename "$f" .h5).json"
       done ;;
     qs)
-      for d in "$root"/jobs/runs/ar_ensembles/D_QS/sample_*; do
+      # The committed samples, then the regenerated ones in ENS_OUT (finished runs only: a
+      # sample of the same name already done is skipped by its JSONs).
+      for d in "$root"/jobs/runs/ar_ensembles/D_QS/sample_* "$ens_out"/D_QS/sample_*; do
+        [ -e "$d/report.json" ] || continue
         for f in "$d"/D.h5 "$d"/QS_*.h5; do
           [ -e "$f" ] || continue
           stiffness "$f" "$out/qs/D_QS_$(basename "$d")/$(basename "$f" .h5).json"

@@ -38,7 +38,9 @@ the values of
                        r = a give 3 (2 + 3 k_t / k_n) / 10: 0.6 without friction)
 The pressure series gets power-law fits (least squares on the logarithms, "fits" in the JSON):
 B_V and G_V against P, and G_V / B_V against z* - 6 for frictionless samples (z* > 6); each
-frictional series ("qs_series", "qs_fits") B_V and G_V against P.
+frictional series ("qs_series", "qs_fits") B_V and G_V against P. Two or more frictional series
+(the same deck, several seeds) are also summarised as an ensemble ("qs_ensemble"): per level
+(file name) mean ± sd over the series, and mean ± sd of the series' exponents.
 A sample whose moduli are not defined (moduli_valid false, no elastic_tensor) is left out and
 listed under "excluded". The table on stdout gives mean ± sd; --json writes every number
 (docs/stiffness.md, "Moduli of the [AR] ensembles"). Exit codes: 0, 2 bad input.
@@ -224,6 +226,29 @@ def qs_fits(rows):
             "G_V_vs_P": power_fit(p, [r["G_V"] for r in rows])}
 
 
+QS_LEVEL_QUANTITIES = ("P", "phi", "z_star", "k", "B_V", "G_V", "G_over_B", "nonaffine_G")
+
+
+def qs_ensemble(qs):
+    """The frictional series as an ensemble: per level (the file name, e.g. QS_2.json, the same
+    step of the same deck in every series), mean ± sd over the series of each quantity, and of
+    each series' power-law exponents. None with fewer than two series."""
+    if len(qs) < 2:
+        return None
+    levels = {}
+    for rows in qs.values():
+        for r in rows:
+            if "excluded" not in r:
+                levels.setdefault(r["file"], []).append(r)
+    out = {name: {q: stats([r[q] for r in rows]) for q in QS_LEVEL_QUANTITIES}
+           for name, rows in levels.items()}
+    order = sorted(out, key=lambda n: out[n]["P"]["mean"])
+    fits = [qs_fits(rows) for rows in qs.values()]
+    return {"K": len(qs), "series": list(qs), "levels": {n: out[n] for n in order},
+            "exponents": {f: stats([x[f]["exponent"] for x in fits if x[f]])
+                          for f in ("B_V_vs_P", "G_V_vs_P")}}
+
+
 def pm(s, scale=1.0, digits=3):
     if s["mean"] is None:
         return "-"
@@ -287,6 +312,19 @@ def print_table(states, series, qs=None, out=sys.stdout):
                   f"{r['k']:.0f} | {r['B_V'] / 1e6:.4g} | {r['G_V'] / 1e6:.4g} | "
                   f"{r['G_over_B']:.4g} | {r['nonaffine_G']:.3f}", file=out)
         print_fits(qs_fits(rows), out)
+    ens = qs_ensemble(qs or {})
+    if ens:
+        print(f"\nfrictional pressure series as an ensemble (K = {ens['K']} series, mean ± sd)",
+              file=out)
+        print("level | K | P (kPa) | phi | z* | k | B_V (MPa) | G_V (MPa) | G/B | 1-G/G_aff",
+              file=out)
+        for name, q in ens["levels"].items():
+            print(f"{name} | {q['P']['K']} | {pm(q['P'], 1e3, 4)} | {pm(q['phi'], 1, 4)} | "
+                  f"{pm(q['z_star'], 1, 4)} | {pm(q['k'], 1, 3)} | {pm(q['B_V'], 1e6, 4)} | "
+                  f"{pm(q['G_V'], 1e6, 4)} | {pm(q['G_over_B'], 1, 3)} | "
+                  f"{pm(q['nonaffine_G'], 1, 3)}", file=out)
+        for f, e in ens["exponents"].items():
+            print(f"exponent {f}: {pm(e, 1, 3)} (K = {e['K']})", file=out)
 
 
 def plot_g_over_b(states, series, path):
@@ -371,16 +409,31 @@ def plot_qs(qs, path):
     if not qs:
         raise InputError("--plot-qs: no frictional pressure series (DIR/qs/<series>/*.json)")
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.8), dpi=110)
+    ens = qs_ensemble(qs)
     for i, (name, rows) in enumerate(qs.items()):
         rows = [r for r in rows if "excluded" not in r]
         p = np.array([r["P"] for r in rows])
-        ax.loglog(p, [r["B_V"] for r in rows], "o-", color=f"C{i}", label=f"B, {name}")
-        ax.loglog(p, [r["G_V"] for r in rows], "s--", color=f"C{i}", label=f"G, {name}")
-        bx.plot([r["z_star"] for r in rows], [r["G_over_B"] for r in rows], "o-", color=f"C{i}",
-                label=name)
-        for r in rows:
+        # Several series: each thin and grey, their mean with error bars below.
+        style = dict(color="0.75", lw=0.8, ms=3) if ens else dict(color=f"C{i}")
+        ax.loglog(p, [r["B_V"] for r in rows], "o-", label=None if ens else f"B, {name}", **style)
+        ax.loglog(p, [r["G_V"] for r in rows], "s--", label=None if ens else f"G, {name}", **style)
+        bx.plot([r["z_star"] for r in rows], [r["G_over_B"] for r in rows], "o-",
+                label=None if ens else name, **style)
+        for r in rows if not ens else []:
             bx.annotate(f"{r['P'] / 1e3:.3g} kPa", (r["z_star"], r["G_over_B"]), fontsize=6,
                         xytext=(4, -8), textcoords="offset points")
+    if ens:
+        lv = list(ens["levels"].values())
+        mean = lambda q: np.array([v[q]["mean"] for v in lv])
+        sd = lambda q: np.array([v[q]["sd"] or 0.0 for v in lv])
+        for q, mk, lab in (("B_V", "o-", "B"), ("G_V", "s--", "G")):
+            ax.errorbar(mean("P"), mean(q), yerr=sd(q), fmt=mk, color="C0" if q == "B_V" else "C1",
+                        capsize=3, label=f"{lab}, mean ± sd of {ens['K']} samples")
+        bx.errorbar(mean("z_star"), mean("G_over_B"), xerr=sd("z_star"), yerr=sd("G_over_B"),
+                    fmt="o-", color="C0", capsize=3, label=f"mean ± sd of {ens['K']} samples")
+        for v in lv:
+            bx.annotate(f"{v['P']['mean'] / 1e3:.3g} kPa", (v["z_star"]["mean"], v["G_over_B"]["mean"]),
+                        fontsize=6, xytext=(4, -8), textcoords="offset points")
     first = [r for r in qs[next(iter(qs))] if "excluded" not in r]
     if len(first) >= 2:  # P^(1/3), the Hertz scaling on a fixed network, through the first B
         p = np.array([r["P"] for r in first])
@@ -415,7 +468,8 @@ def main(argv=None):
             doc = {"description": "granpack stiffness moduli per state: mean, sd (ddof=1), K, "
                                   "values (jobs/tools/ensemble_moduli.py; units Pa)",
                    "states": states, "pressure_series": series, "fits": series_fits(series),
-                   "qs_series": qs, "qs_fits": {n: qs_fits(r) for n, r in qs.items()}}
+                   "qs_series": qs, "qs_fits": {n: qs_fits(r) for n, r in qs.items()},
+                   "qs_ensemble": qs_ensemble(qs)}
             Path(a.json).write_text(json.dumps(doc, indent=1) + "\n")
         if a.plot:
             plot_g_over_b(states, series, a.plot)

@@ -154,6 +154,9 @@ sample(f"{root}/single/Y_n4000_seed1.json", 8e7, 1e6, 1e8, 6e7, 12000, 3950, 1e4
 for stem, p in (("QS_2", 1e5), ("D", 1e3), ("QS_1", 1e4)):
     sample(f"{root}/qs/S/{stem}.json", 1e7 * (p / 1e3) ** 0.35, 5e6 * (p / 1e3) ** 0.4, 2e7, 2e7,
            9000, 4000, p, 90)
+    # a second seed of the same series: B = 1.2e7 (P/1e3)^0.33, G = 6e6 (P/1e3)^0.42
+    sample(f"{root}/qs/T/{stem}.json", 1.2e7 * (p / 1e3) ** 0.33, 6e6 * (p / 1e3) ** 0.42, 2e7, 2e7,
+           9000, 4000, p, 90)
 PY
 check "synthetic inputs written" '[ -s "$scratch/syn/single/Y_n4000_seed1.json" ]' || cat "$scratch/mk.txt"
 check_exit "ensemble_moduli.py on the synthetic set" 0 "$scratch/tool.txt" \
@@ -208,6 +211,15 @@ f = doc["qs_fits"]["S"]
 same("qs: B_V exponent", f["B_V_vs_P"]["exponent"], 0.35)
 same("qs: G_V exponent", f["G_V_vs_P"]["exponent"], 0.4)
 same("qs: G_V prefactor", f["G_V_vs_P"]["prefactor"] * 1e3 ** 0.4, 5e6)
+# The two series S, T as an ensemble: per level mean ± sd over the series, and of the exponents
+e = doc["qs_ensemble"]
+check(f"qs ensemble: K = 2, levels {list(e['levels'])} by pressure",
+      e["K"] == 2 and list(e["levels"]) == ["D.json", "QS_1.json", "QS_2.json"])
+b1 = [1e7 * 10 ** 0.35, 1.2e7 * 10 ** 0.33]
+same("qs ensemble: mean B_V at QS_1", e["levels"]["QS_1.json"]["B_V"]["mean"], statistics.mean(b1))
+same("qs ensemble: sd B_V at QS_1", e["levels"]["QS_1.json"]["B_V"]["sd"], statistics.stdev(b1))
+same("qs ensemble: mean G_V exponent", e["exponents"]["G_V_vs_P"]["mean"], 0.41)
+same("qs ensemble: sd B_V exponent", e["exponents"]["B_V_vs_P"]["sd"], statistics.stdev([0.35, 0.33]))
 PY
 checks_from "the ensemble tool checks" "$scratch/py2.txt" $?
 check "the table prints X with mean ± sd" "grep -q '^X | 3 | ' '$scratch/tool.txt'" || cat "$scratch/tool.txt"
