@@ -14,6 +14,7 @@
 #include "granpack/rigidity/petsc_support.h"
 #endif
 #include "granpack/app/bench.h"
+#include "granpack/app/build_info.h"
 #include "granpack/app/ensemble_run.h"
 #include "granpack/app/ensemble_summary.h"
 #include "granpack/app/run_deck.h"
@@ -37,7 +38,9 @@ int main(int argc, char** argv) {
                ": model granular packings - assembly, equilibration, analysis, rigidity.\n"
                "Run under MPI, e.g.  mpirun -np 2 granpack run DECK.toml -o out/A",
                "granpack"};
-  app.set_version_flag("--version", "granpack " GRANPACK_VERSION);
+  app.set_version_flag("--version", std::string("granpack " GRANPACK_VERSION " (commit ") +
+                                        granpack::build_commit +
+                                        (granpack::build_dirty ? ", uncommitted changes)" : ")"));
   app.require_subcommand(1);
 
   granpack::RunOptions run;

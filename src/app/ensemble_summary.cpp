@@ -51,6 +51,18 @@ void flatten(const json& v, const std::string& at, std::map<std::string, json>& 
   }
 }
 
+/// The commit a sample's report names ("+dirty" when built with uncommitted changes), or
+/// "unrecorded" for reports written before builds were recorded.
+std::string build_of(const json& report) {
+  if (!report.contains("build") || !report["build"].is_object() ||
+      !report["build"].contains("commit") || !report["build"]["commit"].is_string())
+    return "unrecorded";
+  std::string c = report["build"]["commit"].get<std::string>();
+  if (report["build"].value("dirty", false))
+    c += "+dirty";
+  return c;
+}
+
 /// report.json with its list of stages keyed by stage name, which stays meaningful when a
 /// deck gains a stage ("/stages/compress/phi", not "/stages/2/phi").
 json stages_by_name(json report) {
@@ -213,6 +225,13 @@ std::string headline(const json& summary) {
   if (!summary["unfinished"].empty())
     os << ", " << summary["unfinished"].size() << " unfinished";
   os << "\n";
+  if (summary.contains("builds") && summary["builds"].size() > 1) {
+    os << "  warning: the samples come from " << summary["builds"].size()
+       << " different builds (compare them before pooling):";
+    for (const auto& [commit, seeds] : summary["builds"].items())
+      os << " " << commit << " (seeds " << seeds.dump() << ")";
+    os << "\n";
+  }
   for (const auto& [stem, stats] : summary["analysis"].items()) {
     os << "  " << stem << ":";
     for (const char* key : {"/phi", "/z_star", "/x0", "/x2"}) {
@@ -271,6 +290,12 @@ json summarize_samples(const std::vector<SampleDocuments>& samples) {
   }
   summary["seeds"] = seeds;
   summary["K"] = seeds.size();
+  // Which code made each sample: samples of one ensemble run by different builds may differ by
+  // more than their scatter (a changed protocol), which the statistics alone would hide.
+  json builds = json::object();
+  for (const auto* s : finished)
+    builds[build_of(s->report)].push_back(s->seed);
+  summary["builds"] = builds;
   summary["unfinished"] = unfinished;
   summary["report"] = statistics_of(reports);
   summary["analysis"] = json::object();

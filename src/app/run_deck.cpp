@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 
+#include "granpack/app/build_info.h"
 #include "granpack/comm/barrier.h"
 #include "granpack/comm/broadcast.h"
 #include "granpack/comm/collective_error.h"
@@ -319,9 +320,10 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   Log log(rank == 0, options.quiet || deck.output.quiet);
   log.set_terminal_prefix(options.terminal_prefix);
   collectively(world, [&] { log.open_file((out / "log.txt").string(), state.has_value()); });
-  log.info("granpack " GRANPACK_VERSION ": " + deck.file + " -> " + out.string() + " on " +
-           std::to_string(size) + " rank(s), dimension " + std::to_string(deck.sample.dimension) +
-           ", n = " + std::to_string(deck.sample.n));
+  log.info("granpack " GRANPACK_VERSION " (commit " + std::string(build_commit) +
+           (build_dirty ? ", uncommitted changes" : "") + "): " + deck.file + " -> " +
+           out.string() + " on " + std::to_string(size) + " rank(s), dimension " +
+           std::to_string(deck.sample.dimension) + ", n = " + std::to_string(deck.sample.n));
   if (!lock.warning().empty())
     log.warn(lock.warning());
 
@@ -335,6 +337,8 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
 
   RunReport report;
   report.version = GRANPACK_VERSION;
+  report.build_commit = build_commit;
+  report.build_dirty = build_dirty;
   report.dimension = deck.sample.dimension;
   report.n = deck.sample.n;
   report.ranks = size;

@@ -149,6 +149,7 @@ StageReport stage_report_from_json(const std::string& text) {
 std::string to_json(const RunReport& r) {
   nlohmann::json j;
   j["version"] = r.version;
+  j["build"] = {{"commit", r.build_commit}, {"dirty", r.build_dirty}};
   j["dimension"] = r.dimension;
   j["n"] = r.n;
   j["ranks"] = r.ranks;

@@ -94,6 +94,29 @@ for stem, key, src in [("report", "/stages/compress/phi", None), ("S", "/z_star"
     assert st["sd"] > 0
 PY
 
+# Provenance: each report names the build (the commit of this binary), the summary lists the
+# seeds per build, and warns when the samples come from different builds.
+commit=$("$GRANPACK_EXE" --version | sed -n 's/.*(commit \([0-9a-f]*\|unknown\).*/\1/p')
+check_python "report.json names the build, ensemble.json its seeds ($commit)" "$scratch/build_py.txt" \
+  "$ens" "$commit" <<'PY'
+import json, sys
+d, commit = sys.argv[1], sys.argv[2]
+r = json.load(open(d + "/sample_1/report.json"))
+assert r["build"]["commit"] == commit and isinstance(r["build"]["dirty"], bool), r["build"]
+key = commit + ("+dirty" if r["build"]["dirty"] else "")
+assert json.load(open(d + "/ensemble.json"))["builds"] == {key: [1, 2]}
+PY
+check "one build: no warning" "! grep -q 'different builds' '$scratch/summary.txt'" || cat "$scratch/summary.txt"
+cp -r "$ens" "$scratch/mixed"
+/usr/bin/python3 - "$scratch/mixed/sample_2/report.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1])); r["build"] = {"commit": "0123456789ab", "dirty": False}
+json.dump(r, open(sys.argv[1], "w"))
+PY
+check_exit "ensemble of samples from two builds" 0 "$scratch/mixed.txt" granpack_on 1 ensemble "$scratch/mixed"
+check "... warns and names both" "grep -q 'different builds' '$scratch/mixed.txt' && grep -q '0123456789ab (seeds \[2\])' '$scratch/mixed.txt'" ||
+  cat "$scratch/mixed.txt"
+
 # --restart: finished samples are skipped, a new one runs; a sample with only a checkpoint
 # continues from it to the same bits as its uninterrupted run.
 cp "$ens/sample_1/report.json" "$scratch/report1.json"

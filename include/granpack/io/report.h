@@ -79,6 +79,8 @@ struct StageReport {
 
 struct RunReport {
   std::string version;
+  std::string build_commit; ///< the source commit of the binary (app/build_info.h)
+  bool build_dirty = false; ///< built from a tree with uncommitted changes
   int dimension = 3;
   std::int64_t n = 0;
   int ranks = 1;
