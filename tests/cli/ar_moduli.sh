@@ -17,7 +17,16 @@
 #   per sample, z* = 2 N_c* / n*, non-affine fractions, an invalid sample excluded, K = 1 with
 #   sd null, the JSON summary, bad input exit 2;
 # - the committed docs/data/ensembles/moduli.json is what this build computes for D and A at 1 MPa
-#   (rerun jobs/runs/ar_moduli.sh and jobs/tools/ensemble_moduli.py when the physics changes).
+#   (rerun jobs/runs/ar_moduli.sh and jobs/tools/ensemble_moduli.py when the physics changes);
+# - the committed K = 5 ensembles are isotropic within their scatter: per state and group (the
+#   axial c11, c22, c33; the shear c44, c55, c66, (c11 - c12)/2), the largest paired |t| over
+#   the samples stays below Student's t at 1 % two-sided, Bonferroni-corrected over the group's
+#   pairs (4 degrees of freedom: 6.25 axial, 7.53 shear). Lenient for a state, not for a code
+#   error: a c44/c55 index mix-up would shift one entry by G_V against pair sds of 0.2-2 % of it;
+# - every A and A' rerun (jobs/runs/ar_moduli_json/ens/) is stable along the strains the cell
+#   relaxed while it was prepared: the normal-strain block c11..c33 is positive definite, and
+#   the tensor's symmetric part has the eigenvalues the JSON reports (docs/stiffness.md, "The
+#   frictionless ensembles at n = 4000").
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
 . "$GRANPACK_SOURCE_DIR/tests/support/cli_checks.sh"
@@ -222,6 +231,37 @@ same("qs ensemble: mean G_V exponent", e["exponents"]["G_V_vs_P"]["mean"], 0.41)
 same("qs ensemble: sd B_V exponent", e["exponents"]["B_V_vs_P"]["sd"], statistics.stdev([0.35, 0.33]))
 PY
 checks_from "the ensemble tool checks" "$scratch/py2.txt" $?
+
+/usr/bin/python3 - "$data/ensembles/moduli.json" "$GRANPACK_SOURCE_DIR/jobs/runs/ar_moduli_json/ens" \
+  > "$scratch/py3.txt" 2>&1 <<'PY'
+import glob, json, sys
+import numpy as np
+from scipy import stats
+from checks import check
+states = json.load(open(sys.argv[1]))["states"]
+crit = {g: stats.t.ppf(1 - 0.01 / 2 / pairs, 4) for g, pairs in (("axial", 3), ("shear", 6))}
+five = [n for n, s in states.items() if s["K"] == 5 and s.get("isotropy")]
+check(f"K = 5 ensembles with an isotropy entry: {five}",
+      {"A", "A_prime", "B", "C", "D", "Z"} <= set(five))
+for name in five:
+    for g, c in crit.items():
+        t = states[name]["isotropy"][g]["t"]
+        check(f"{name}: {g} max paired |t| {t:.2f} < {c:.2f}", t < c)
+for st in ("A", "A_prime"):
+    files = sorted(glob.glob(f"{sys.argv[2]}/{st}/sample_*.json"))
+    check(f"{st}: five rerun tensors", len(files) == 5)
+    for f in files:
+        e = json.load(open(f))["elastic_tensor"]
+        c = np.array(e["c"]); c = (c + c.T) / 2
+        assert e["voigt_order"][:3] == ["xx", "yy", "zz"], e["voigt_order"]
+        lam = np.linalg.eigvalsh(c[:3, :3]).min() / np.abs(c).max()
+        check(f"{st} {f[-13:]}: normal-strain block positive definite ({lam:.2e} max|c|)", lam > 0)
+        ev = np.sort(np.linalg.eigvalsh(c)); rep = np.sort(np.array(e["eigenvalues"]))
+        check(f"{st} {f[-13:]}: eigenvalues as reported", np.allclose(ev, rep, rtol=0, atol=1e-9 * np.abs(c).max()))
+        check(f"{st} {f[-13:]}: positive_definite flag = smallest eigenvalue > 0",
+              e["positive_definite"] == bool(ev[0] > 0))
+PY
+checks_from "the committed ensembles' isotropy and stability" "$scratch/py3.txt" $?
 check "the table prints X with mean ± sd" "grep -q '^X | 3 | ' '$scratch/tool.txt'" || cat "$scratch/tool.txt"
 mkdir -p "$scratch/empty"
 check_refused "ensemble_moduli.py on an empty directory" 2 "no stiffness JSON" "$scratch/empty.txt" \
