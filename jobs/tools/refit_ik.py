@@ -22,6 +22,7 @@ counts) of a 2D ensemble summary written by `granpack ensemble` and fits
 Every variant starts from the same ten points as granpack's fit (xi0 = 0.3, 1, 10 / k_min and
 3, 10 / k_max; d0 = 1.5, 1.9) and keeps the lowest cost with 0.5 < d_F < 2.5.
 Prints one line per variant: d_F, xi / a, points, rms log residual. --json writes them.
+Exit codes: 0; 1 a failed --check; 2 bad input (the file, the key or the level named).
 """
 import argparse
 import json
@@ -32,6 +33,8 @@ import sys
 import numpy as np
 from scipy.optimize import least_squares
 from scipy.special import gamma, hyp2f1
+
+import granpack_io as gio
 
 
 def blob_intensity(k, d_f, xi, amplitude):
@@ -113,6 +116,12 @@ def variants(curve, phi, k_lo):
     return out
 
 
+def bad_input(message):
+    """Bad input: the message on stderr, exit 2 (a failed --check exits 1)."""
+    print(f"refit_ik: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
 def main():
     np.seterr(all="ignore")  # trial steps overflow; their residuals are replaced above
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -124,19 +133,18 @@ def main():
     ap.add_argument("--json", help="write the variants' fits here")
     args = ap.parse_args()
     try:
-        with open(args.ensemble) as f:
-            summary = json.load(f)
-    except (OSError, ValueError) as e:
-        sys.exit(f"refit_ik: {args.ensemble}: {e}")
+        summary = gio.read_ensemble(args.ensemble)
+    except gio.GranpackFileError as e:
+        bad_input(str(e))
     pooled = summary.get("density_pooled")
     if not pooled:
-        sys.exit(f"refit_ik: {args.ensemble}: no 'density_pooled' (not a 2D ensemble summary)")
+        bad_input(f"{args.ensemble}: no 'density_pooled' (not a 2D ensemble summary)")
     levels = args.level or sorted(pooled)
     results, failed = {}, []
     for level in levels:
         if level not in pooled:
-            sys.exit(f"refit_ik: {args.ensemble}: no level '{level}' in density_pooled "
-                     f"(it has {', '.join(sorted(pooled))})")
+            bad_input(f"{args.ensemble}: no level '{level}' in density_pooled "
+                      f"(it has {', '.join(sorted(pooled))})")
         entry = pooled[level]
         ref = entry["fit_eq28"]
         k_lo = ref["k_range_times_a"][0]

@@ -8,7 +8,8 @@
 #    summary's fit_eq28 (--check: d_F within 2e-3, xi within 1 %) at both levels, and the
 #    unweighted log fit gives xi below 2 a, as the document says;
 #  - --check fails (exit 1, the level named) on a summary whose xi was altered by 5 %;
-#  - a missing file, a summary without density_pooled and an unknown level are refused by name.
+#  - a missing file, a summary without density_pooled and an unknown level are refused by name
+#    (exit 2).
 # ctest: PROCESSORS 1
 set -u
 : "${GRANPACK_SOURCE_DIR:?}"
@@ -19,8 +20,9 @@ cli_scratch
 committed="$GRANPACK_SOURCE_DIR/docs/data/ensembles/2d/method2_seriesA_delayed/ensemble.json"
 
 check_python "a synthetic summary from eq. (28)" "$scratch/gen.log" "$tool" "$scratch" <<'PY'
-import importlib.util, json, math, sys
+import importlib.util, json, math, os, sys
 import numpy as np
+sys.path.insert(0, os.path.dirname(sys.argv[1]))  # granpack_io, beside the tool
 spec = importlib.util.spec_from_file_location("refit_ik", sys.argv[1])
 m = importlib.util.module_from_spec(spec); spec.loader.exec_module(m)
 L = 42.0
@@ -29,12 +31,13 @@ I = 0.004 + m.blob_intensity(k, 1.6, 5.0, 0.1)
 curve = {"k_times_a": k.tolist(), "I_over_a2": I.tolist(), "I_error_over_a2": (0.1 * I).tolist(),
          "count": np.round(np.geomspace(4, 4000, 27)).tolist()}
 fit = {"d_F": 1.6, "xi_over_a": 5.0, "determined": True, "k_range_times_a": [k[0], 2 * math.pi]}
-s = {"density_pooled": {"P0": {"I_k": curve, "K": 3, "fit_eq28": fit, "phi_of_mesh": 0.36}}}
+s = {"format": "granpack-ensemble", "format_version": 1,
+     "density_pooled": {"P0": {"I_k": curve, "K": 3, "fit_eq28": fit, "phi_of_mesh": 0.36}}}
 json.dump(s, open(sys.argv[2] + "/synthetic.json", "w"))
 bad = json.load(open(sys.argv[2] + "/synthetic.json"))
 bad["density_pooled"]["P0"]["fit_eq28"]["xi_over_a"] = 5.25
 json.dump(bad, open(sys.argv[2] + "/altered.json", "w"))
-json.dump({"K": 3}, open(sys.argv[2] + "/no_pooled.json", "w"))
+json.dump({"format": "granpack-ensemble", "K": 3}, open(sys.argv[2] + "/no_pooled.json", "w"))
 PY
 
 check_exit "synthetic: --check" 0 "$scratch/syn.log" $py "$tool" "$scratch/synthetic.json" --check \
@@ -66,10 +69,10 @@ PY
 
 check_refused "--check on an altered summary" 1 "does not reproduce fit_eq28 at \['P0'\]" \
   "$scratch/alt.log" $py "$tool" "$scratch/altered.json" --check
-check_refused "a missing file" 1 "nothing\.json" "$scratch/miss.log" $py "$tool" "$scratch/nothing.json"
-check_refused "no density_pooled" 1 "no 'density_pooled'" "$scratch/nop.log" $py "$tool" \
+check_refused "a missing file" 2 "nothing\.json" "$scratch/miss.log" $py "$tool" "$scratch/nothing.json"
+check_refused "no density_pooled" 2 "no 'density_pooled'" "$scratch/nop.log" $py "$tool" \
   "$scratch/no_pooled.json"
-check_refused "an unknown level" 1 "no level 'P9' in density_pooled \(it has P0\)" "$scratch/lvl.log" \
+check_refused "an unknown level" 2 "no level 'P9' in density_pooled \(it has P0\)" "$scratch/lvl.log" \
   $py "$tool" "$scratch/synthetic.json" --level P9
 
 checks_done "refit_ik"
