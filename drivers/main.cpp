@@ -38,9 +38,7 @@ int main(int argc, char** argv) {
                ": model granular packings - assembly, equilibration, analysis, rigidity.\n"
                "Run under MPI, e.g.  mpirun -np 2 granpack run DECK.toml -o out/A",
                "granpack"};
-  app.set_version_flag("--version", std::string("granpack " GRANPACK_VERSION " (commit ") +
-                                        granpack::build_commit +
-                                        (granpack::build_dirty ? ", uncommitted changes)" : ")"));
+  app.set_version_flag("--version", granpack::build_description());
   app.require_subcommand(1);
 
   granpack::RunOptions run;

@@ -320,10 +320,9 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
   Log log(rank == 0, options.quiet || deck.output.quiet);
   log.set_terminal_prefix(options.terminal_prefix);
   collectively(world, [&] { log.open_file((out / "log.txt").string(), state.has_value()); });
-  log.info("granpack " GRANPACK_VERSION " (commit " + std::string(build_commit) +
-           (build_dirty ? ", uncommitted changes" : "") + "): " + deck.file + " -> " +
-           out.string() + " on " + std::to_string(size) + " rank(s), dimension " +
-           std::to_string(deck.sample.dimension) + ", n = " + std::to_string(deck.sample.n));
+  log.info(build_description() + ": " + deck.file + " -> " + out.string() + " on " +
+           std::to_string(size) + " rank(s), dimension " + std::to_string(deck.sample.dimension) +
+           ", n = " + std::to_string(deck.sample.n));
   if (!lock.warning().empty())
     log.warn(lock.warning());
 
