@@ -6,12 +6,19 @@ rattler rule), steps and wall seconds. Used by the jobs/runs/ sweeps.
 With --ensemble BASE2 [BASE3 ...] (the same cases run with other seeds, e.g. out/2d/table2_seed2
 from SEED=2 bash jobs/runs/method1_sweep.sh 2), one line per case over every base that has its
 report: K, and the mean and sample standard deviation (ddof = 1) of Phi, z and z_int.
+
+With --against II|III, the same as a markdown table beside [GRC]'s table II or III
+(jobs/tools/grc_paper.py; the tables of docs/reproduction-2d.md): the deviation in % and in
+combined standard errors, (ours - theirs) / sqrt(sd_ours^2/K + sd_GRC^2). A case [GRC] do not
+have exits 2.
 """
 import argparse
 import os
 import statistics
+import sys
 
 import granpack_io as gio
+import grc_paper as grc
 
 
 def fmt(v, width, prec):
@@ -50,14 +57,10 @@ def chosen_stage(report, stage):
     return chosen[-1] if chosen else None
 
 
-def ensemble_table(bases, cases, stage):
-    """Per case: K samples (the bases with a report and an equilibrated stage) and mean +- sd."""
-    def cell(values, prec):
-        if not values:
-            return f"{'-':>17}"
-        m, sd = mean_sd(values)
-        return f"{m:{prec + 3}.{prec}f} +- {sd:.{prec}f}" if sd is not None else f"{m:{prec + 3}.{prec}f}" + " " * (prec + 5)
-    print(f"{'case':>22} {'K':>2} {'Phi':>17} {'z':>15} {'z_int':>15}  not equilibrated")
+def gather(bases, cases, stage):
+    """Per case: {"phi": [...], "z": [...], "z_int": [...], "skipped": [base names]} over the
+    bases that hold its report with an equilibrated stage."""
+    out = {}
     for c in cases:
         phis, zs, zints, skipped = [], [], [], []
         for base in bases:
@@ -74,8 +77,76 @@ def ensemble_table(bases, cases, stage):
             z_int = s.get("values", {}).get("z_interactions")
             if isinstance(z_int, (int, float)):
                 zints.append(z_int)
-        print(f"{c:>22} {len(phis):2d} {cell(phis, 4)} {cell(zs, 3)} {cell(zints, 3)}  "
-              f"{' '.join(skipped)}")
+        out[c] = {"phi": phis, "z": zs, "z_int": zints, "skipped": skipped}
+    return out
+
+
+def ensemble_table(bases, cases, stage):
+    """Per case: K samples (the bases with a report and an equilibrated stage) and mean +- sd."""
+    def cell(values, prec):
+        if not values:
+            return f"{'-':>17}"
+        m, sd = mean_sd(values)
+        return f"{m:{prec + 3}.{prec}f} +- {sd:.{prec}f}" if sd is not None else f"{m:{prec + 3}.{prec}f}" + " " * (prec + 5)
+    print(f"{'case':>22} {'K':>2} {'Phi':>17} {'z':>15} {'z_int':>15}  not equilibrated")
+    for c, v in gather(bases, cases, stage).items():
+        print(f"{c:>22} {len(v['phi']):2d} {cell(v['phi'], 4)} {cell(v['z'], 3)} "
+              f"{cell(v['z_int'], 3)}  {' '.join(v['skipped'])}")
+
+
+def deviation(values, paper):
+    """(ours - theirs) in % of theirs, and in combined standard errors sqrt(sd^2/K + sd_GRC^2):
+    [GRC] do not state their sample count, so their sd counts as one sample's (with K = 1 the
+    bracket is the distance in [GRC]'s sd alone)."""
+    m, sd = mean_sd(values)
+    pm, psd = paper
+    se = (((sd or 0.0) ** 2 / len(values)) + psd ** 2) ** 0.5
+    return 100.0 * (m - pm) / pm, (m - pm) / se
+
+
+def against_table(bases, cases, stage, table):
+    """A markdown table of the ensemble beside [GRC]'s table II or III (jobs/tools/grc_paper.py):
+    one row per case, mean +- sd of Phi and z ([GRC]'s z: Z_KEY), the deviation in % and, in
+    brackets, in combined standard errors; then how many cases lie within 2 of them."""
+    paper = grc.TABLES[table]
+    zkey = grc.Z_KEY[table]
+    unknown = [c for c in cases if c not in paper]
+    if unknown:
+        print(f"case_table.py: --against {table}: no [GRC] value for case(s) {' '.join(unknown)} "
+              f"(known: {' '.join(paper)})", file=sys.stderr)
+        return 2
+
+    def cell(values, prec):
+        m, sd = mean_sd(values)
+        return f"{m:.{prec}f}" + (f" ± {sd:.{prec}f}" if sd is not None else "")
+
+    def dev(values, ref):
+        pct, n = deviation(values, ref)
+        return f"{pct:+.1f} % ({n:+.1f})".replace("-", "−"), abs(n) <= 2.0
+
+    zname = "z" if zkey == "z" else "z_int"
+    print(f"| Φ_I | μ | RR | K | Φ ours | Φ [GRC] | dev. Φ | {zname} ours | z [GRC] | dev. z |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    within_phi = within_z = n_phi = n_z = 0
+    for c, v in gather(bases, cases, stage).items():
+        phi_i, mu, rr = c.split("-")
+        ref = paper[c]
+        row = [phi_i, mu, "yes" if rr == "rr" else "no", str(len(v["phi"]))]
+        if v["phi"]:
+            d, ok = dev(v["phi"], ref["phi"])
+            row += [cell(v["phi"], 4), f"{ref['phi'][0]} ± {ref['phi'][1]}", d]
+            n_phi, within_phi = n_phi + 1, within_phi + ok
+        else:
+            row += ["–", f"{ref['phi'][0]} ± {ref['phi'][1]}", ""]
+        if v[zkey]:
+            d, ok = dev(v[zkey], ref["z"])
+            row += [cell(v[zkey], 3), f"{ref['z'][0]} ± {ref['z'][1]}", d]
+            n_z, within_z = n_z + 1, within_z + ok
+        else:
+            row += ["–", f"{ref['z'][0]} ± {ref['z'][1]}", ""]
+        print("| " + " | ".join(row) + " |")
+    print(f"\nwithin 2 combined standard errors: Φ {within_phi} of {n_phi}, z {within_z} of {n_z}")
+    return 0
 
 
 def main(argv):
@@ -90,7 +161,14 @@ def main(argv):
     ap.add_argument("--ensemble", nargs="+", metavar="BASE",
                     help="more bases holding the same cases (other seeds): print mean, sd and "
                          "K per case instead of one line per run")
+    ap.add_argument("--against", choices=sorted(grc.TABLES),
+                    help="print a markdown table beside [GRC]'s table II or III (mean +- sd, "
+                         "deviation in %% and in combined standard errors; with or without "
+                         "--ensemble)")
     args = ap.parse_args(argv)
+    if args.against:
+        return against_table([args.base] + (args.ensemble or []), args.cases, args.stage,
+                             args.against)
     if args.ensemble:
         return ensemble_table([args.base] + args.ensemble, args.cases, args.stage)
     base, cases, stage, mean = args.base, args.cases, args.stage, args.mean
@@ -123,4 +201,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    main(None)
+    sys.exit(main(None))

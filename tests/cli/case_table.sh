@@ -54,4 +54,21 @@ check_exit "the committed table II" 0 "$scratch/t2.log" $py "$tool" \
 check "table II, 0.13-0.15-norr: K 1, Phi 0.8264 (docs/reproduction-2d.md)" \
   'grep -Eq "^ +0\.13-0\.15-norr +1 +0\.8264 +3\.100" "$scratch/t2.log"' || cat "$scratch/t2.log"
 
+# --against: the committed table II at K = 3 beside [GRC] (the table of docs/reproduction-2d.md).
+t2q="$GRANPACK_SOURCE_DIR/docs/data/2d/table2_quench"
+check_exit "--against II" 0 "$scratch/against.log" $py "$tool" "$t2q/seed1" 0.36-0.5-norr \
+  0.13-0.5-norr --ensemble "$t2q/seed2" "$t2q/seed3" --against II
+# 0.36-0.5-norr: 0.8046 +- 0.00045 (K = 3) against 0.811 +- 0.001: -0.79 %, -6.2 combined SE
+check "0.36-0.5-norr: Phi -0.8 % (-6.2), z -1.0 % (-1.2)" \
+  'grep -Fq "| 0.36 | 0.5 | no | 3 | 0.8046 ± 0.0005 | 0.811 ± 0.001 | −0.8 % (−6.2) | 2.623 ± 0.020 | 2.65 ± 0.02 | −1.0 % (−1.2) |" "$scratch/against.log"' ||
+  cat "$scratch/against.log"
+check "the count within 2: Phi 1 of 2, z 2 of 2" \
+  'grep -Fq "within 2 combined standard errors: Φ 1 of 2, z 2 of 2" "$scratch/against.log"' ||
+  cat "$scratch/against.log"
+# K = 1 (synthetic seed 2 alone of case a is unknown to [GRC]): the case name is refused.
+check_exit "--against with a case [GRC] do not have" 2 "$scratch/unknown.log" $py "$tool" \
+  "$scratch/s2" a --against III
+check "the refusal names the case" 'grep -q "no \[GRC\] value for case(s) a" "$scratch/unknown.log"' ||
+  cat "$scratch/unknown.log"
+
 checks_done "case_table"
