@@ -19,6 +19,10 @@ counts) of a 2D ensemble summary written by `granpack ensemble` and fits
                  single "wave vector", so count weight 1), A = L^2 from the first bin 2 pi / L
   k0-unweighted  the same bin, log I unweighted
   kmax=K         `granpack` with the window's upper end at k = K / a (K = 1, 2, 3, 4.19, 12.57)
+  fixed-l=0.375  `granpack` with the length l of eq. (27) fixed at the mean radius 0.375 a
+                 ([GRC]: "a constant of the order of the average particle radius"), so that
+                 the amplitude Phi l^(2 - d_F) is no longer free: three parameters
+Every fit also reports l / a = (A / Phi)^(1 / (2 - d_F)), the length its amplitude A implies.
 Every variant starts from the same ten points as granpack's fit (xi0 = 0.3, 1, 10 / k_min and
 3, 10 / k_max; d0 = 1.5, 1.9) and keeps the lowest cost with 0.5 < d_F < 2.5.
 Prints one line per variant: d_F, xi / a, points, rms log residual. --json writes them.
@@ -46,13 +50,17 @@ def blob_intensity(k, d_f, xi, amplitude):
     return amplitude * 2.0 * math.pi * gamma(d_f) * s**(-d_f) * legendre
 
 
-def fit(k, intensity, weight, log_space):
-    """Least squares of (Cst / scale, log A, d_F, log xi); None when no start ends in 0.5..2.5."""
+def fit(k, intensity, weight, log_space, phi, fixed_l=None):
+    """Least squares of (Cst / scale, log A, d_F, log xi); None when no start ends in 0.5..2.5.
+    With fixed_l, A = phi fixed_l^(2 - d_F) instead of a free parameter."""
     scale = intensity[-1]
     sw = np.sqrt(weight)
 
+    def amplitude(th):
+        return phi * fixed_l**(2.0 - th[2]) if fixed_l else np.exp(th[1])
+
     def residuals(th):
-        model = th[0] * scale + blob_intensity(k, th[2], np.exp(th[3]), np.exp(th[1]))
+        model = th[0] * scale + blob_intensity(k, th[2], np.exp(th[3]), amplitude(th))
         if log_space:
             with np.errstate(invalid="ignore", divide="ignore"):
                 r = np.where(model > 0, np.log(intensity) - np.log(np.abs(model)), 1e3)
@@ -78,12 +86,14 @@ def fit(k, intensity, weight, log_space):
     if best is None:
         return None
     th = best[1]
-    model = th[0] * scale + blob_intensity(k, th[2], np.exp(th[3]), np.exp(th[1]))
+    model = th[0] * scale + blob_intensity(k, th[2], np.exp(th[3]), amplitude(th))
     with np.errstate(invalid="ignore", divide="ignore"):
         rms = float(np.sqrt(np.mean((np.log(intensity) - np.log(np.abs(model)))**2)))
+    l_over_a = (fixed_l if fixed_l else
+                float((amplitude(th) / phi)**(1.0 / (2.0 - th[2]))) if th[2] < 2.0 else None)
     return {"d_F": float(th[2]), "xi_over_a": float(math.exp(th[3])),
-            "constant_over_a2": float(th[0] * scale), "points": int(len(k)),
-            "rms_log_residual": rms}
+            "constant_over_a2": float(th[0] * scale), "l_over_a": l_over_a,
+            "points": int(len(k)), "rms_log_residual": rms}
 
 
 def variants(curve, phi, k_lo):
@@ -103,16 +113,18 @@ def variants(curve, phi, k_lo):
     kw, iw, ew, cw = window(2.0 * math.pi)
     k0, i0s = np.concatenate([[0.0], kw]), np.concatenate([[i0], iw])
     out = {
-        "granpack": fit(kw, iw, np.maximum(1.0, cw), True),
-        "log-unweighted": fit(kw, iw, np.ones_like(kw), True),
-        "linear": fit(kw, iw, np.ones_like(kw), False),
-        "linear-stderr": fit(kw, iw, (iw[-1] / np.maximum(ew, 1e-300))**2, False),
-        "k0-count": fit(k0, i0s, np.concatenate([[1.0], np.maximum(1.0, cw)]), True),
-        "k0-unweighted": fit(k0, i0s, np.ones_like(k0), True),
+        "granpack": fit(kw, iw, np.maximum(1.0, cw), True, phi),
+        "log-unweighted": fit(kw, iw, np.ones_like(kw), True, phi),
+        "linear": fit(kw, iw, np.ones_like(kw), False, phi),
+        "linear-stderr": fit(kw, iw, (iw[-1] / np.maximum(ew, 1e-300))**2, False, phi),
+        "k0-count": fit(k0, i0s, np.concatenate([[1.0], np.maximum(1.0, cw)]), True, phi),
+        "k0-unweighted": fit(k0, i0s, np.ones_like(k0), True, phi),
     }
     for kmax in (1.0, 2.0, 3.0, 4.0 * math.pi / 3.0, 4.0 * math.pi):
         kk, ii, _, cc = window(kmax)
-        out[f"kmax={kmax:.3g}"] = fit(kk, ii, np.maximum(1.0, cc), True) if len(kk) >= 6 else None
+        out[f"kmax={kmax:.3g}"] = (fit(kk, ii, np.maximum(1.0, cc), True, phi) if len(kk) >= 6
+                                   else None)
+    out["fixed-l=0.375"] = fit(kw, iw, np.maximum(1.0, cw), True, phi, fixed_l=0.375)
     return out
 
 
@@ -153,12 +165,13 @@ def main():
         told = (f"d_F {ref['d_F']:.4f}, xi {ref['xi_over_a']:.4f} a" if ref.get("determined")
                 else f"undetermined ({ref.get('reason')})")
         print(f"{args.ensemble} {level} (K = {entry['K']}): granpack's fit {told}")
-        print(f"  {'variant':16s} {'d_F':>7s} {'xi/a':>9s} {'points':>6s} {'rms log':>8s}")
+        print(f"  {'variant':16s} {'d_F':>7s} {'xi/a':>9s} {'l/a':>9s} {'points':>6s} {'rms log':>8s}")
         for name, r in fits.items():
             if r is None:
-                print(f"  {name:16s} {'no fit with 0.5 < d_F < 2.5':>33s}")
+                print(f"  {name:16s} {'no fit with 0.5 < d_F < 2.5':>43s}")
                 continue
-            print(f"  {name:16s} {r['d_F']:7.4f} {r['xi_over_a']:9.4g} {r['points']:6d} "
+            ell = f"{r['l_over_a']:9.3g}" if r["l_over_a"] is not None else f"{'-':>9s}"
+            print(f"  {name:16s} {r['d_F']:7.4f} {r['xi_over_a']:9.4g} {ell} {r['points']:6d} "
                   f"{r['rms_log_residual']:8.3f}")
         g = fits["granpack"]
         if args.check and ref.get("determined"):

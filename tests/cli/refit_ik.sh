@@ -3,7 +3,8 @@
 # docs/reproduction-2d.md quotes (table VII, "Fitting choices do not bridge that"):
 #  - on a synthetic pooled curve generated from eq. (28) itself (d_F 1.6, xi 5 a, a constant),
 #    every variant over the full window recovers d_F within 1e-3 and xi within 0.1 %: the
-#    variants differ by their choices, not by a broken fit;
+#    variants differ by their choices, not by a broken fit; the length l its amplitude implies
+#    is the generating one, (0.1 / 0.36)^(1 / 0.4) a, and the fixed-l variant keeps l = 0.375 a;
 #  - on the committed series-A ensemble (no RR, K = 3) its "granpack" variant reproduces the
 #    summary's fit_eq28 (--check: d_F within 2e-3, xi within 1 %) at both levels, and the
 #    unweighted log fit gives xi below 2 a, as the document says;
@@ -50,6 +51,9 @@ for name in ("granpack", "log-unweighted", "linear", "linear-stderr"):
     f = fits[name]
     assert f is not None, name
     assert abs(f["d_F"] - 1.6) < 1e-3 and abs(f["xi_over_a"] / 5.0 - 1) < 1e-3, (name, f)
+ell = (0.1 / 0.36) ** (1 / 0.4)
+assert abs(fits["granpack"]["l_over_a"] / ell - 1) < 1e-2, (fits["granpack"], ell)
+assert fits["fixed-l=0.375"] is not None and fits["fixed-l=0.375"]["l_over_a"] == 0.375
 print("ok")
 PY
 
@@ -64,6 +68,9 @@ for level in ("P0", "P0.01"):
     ref, g = summary[level]["fit_eq28"], fits[level]["granpack"]
     assert abs(g["d_F"] - ref["d_F"]) < 2e-3 and abs(g["xi_over_a"] / ref["xi_over_a"] - 1) < 1e-2, (level, g, ref)
     assert fits[level]["log-unweighted"]["xi_over_a"] < 2.0, (level, fits[level]["log-unweighted"])
+    # docs/reproduction-2d.md 4.10: l fixed at the mean radius fits twice as badly at least
+    fixed = fits[level]["fixed-l=0.375"]
+    assert fixed["rms_log_residual"] > 1.8 * g["rms_log_residual"], (level, fixed, g)
 print("ok")
 PY
 
