@@ -127,25 +127,23 @@ def against_table(bases, cases, stage, table):
     zname = "z" if zkey == "z" else "z_int"
     print(f"| Φ_I | μ | RR | K | Φ ours | Φ [GRC] | dev. Φ | {zname} ours | z [GRC] | dev. z |")
     print("|---|---|---|---|---|---|---|---|---|---|")
-    within_phi = within_z = n_phi = n_z = 0
+    columns = (("phi", "phi", 4), (zkey, "z", 3))  # (our key, [GRC]'s key, decimals)
+    within, counted = {"phi": 0, "z": 0}, {"phi": 0, "z": 0}
     for c, v in gather(bases, cases, stage).items():
         phi_i, mu, rr = c.split("-")
-        ref = paper[c]
         row = [phi_i, mu, "yes" if rr == "rr" else "no", str(len(v["phi"]))]
-        if v["phi"]:
-            d, ok = dev(v["phi"], ref["phi"])
-            row += [cell(v["phi"], 4), f"{ref['phi'][0]} ± {ref['phi'][1]}", d]
-            n_phi, within_phi = n_phi + 1, within_phi + ok
-        else:
-            row += ["–", f"{ref['phi'][0]} ± {ref['phi'][1]}", ""]
-        if v[zkey]:
-            d, ok = dev(v[zkey], ref["z"])
-            row += [cell(v[zkey], 3), f"{ref['z'][0]} ± {ref['z'][1]}", d]
-            n_z, within_z = n_z + 1, within_z + ok
-        else:
-            row += ["–", f"{ref['z'][0]} ± {ref['z'][1]}", ""]
+        for ours, theirs, prec in columns:
+            ref = paper[c][theirs]
+            if v[ours]:
+                d, ok = dev(v[ours], ref)
+                row += [cell(v[ours], prec), f"{ref[0]} ± {ref[1]}", d]
+                counted[theirs] += 1
+                within[theirs] += ok
+            else:
+                row += ["–", f"{ref[0]} ± {ref[1]}", ""]
         print("| " + " | ".join(row) + " |")
-    print(f"\nwithin 2 combined standard errors: Φ {within_phi} of {n_phi}, z {within_z} of {n_z}")
+    print(f"\nwithin 2 combined standard errors: Φ {within['phi']} of {counted['phi']}, "
+          f"z {within['z']} of {counted['z']}")
     return 0
 
 
