@@ -24,6 +24,7 @@
 #include "granpack/comm/scan.h"
 #include "granpack/io/atomic_file.h"
 #include "granpack/io/hdf5_handle.h"
+#include "granpack/io/hdf5_header_guard.h"
 #include "granpack/io/hdf5_string_guard.h"
 #include "granpack/io/mpiio_hints.h"
 #include "granpack/io/xdmf.h"
@@ -178,6 +179,7 @@ void write_attribute(const FileContext& ctx, hid_t obj, const char* name, const 
 /// length: none for a single value, n for a 1-D array of n values.
 Handle open_attribute(const FileContext& ctx, hid_t obj, const std::string& where, const char* name,
                       std::optional<std::size_t> length = std::nullopt) {
+  h5::check_attribute_messages(ctx.path, obj, "attributes of " + (where.empty() ? "/" : where));
   const htri_t exists = H5Aexists(obj, name);
   if (exists < 0)
     ctx.fail("cannot look up attribute " + where + name, true);
@@ -544,6 +546,7 @@ StateParameters read_parameters(const FileContext& ctx, hid_t file, int dim) {
              "' (mindlin, ratio or constant)");
   law.walton_rescaling = read_attribute<int>(ctx, g, where, "walton_rescaling") != 0;
   // Written since 2026-12-06; older files had no choice (the damping could pull).
+  h5::check_attribute_messages(ctx.path, g, "attributes of " + where);
   const htri_t has_tension = H5Aexists(g, "damping_tension");
   if (has_tension < 0)
     ctx.fail("cannot look up attribute " + where + "damping_tension", true);
@@ -645,6 +648,7 @@ void write_text_dataset(const FileContext& ctx, hid_t file, MPI_Comm comm, const
 /// Not collective (metadata reads only). Root attributes, /deck, /run_state, /parameters.
 FileMeta read_meta(const FileContext& ctx, hid_t file) {
   const std::string root = "/";
+  h5::check_attribute_messages(ctx.path, file, "attributes of " + root);
   const htri_t has_format = H5Aexists(file, "format");
   if (has_format <= 0)
     ctx.fail("not a granpack file (no root attribute 'format')");

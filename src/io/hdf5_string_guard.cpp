@@ -1,9 +1,5 @@
 #include "granpack/io/hdf5_string_guard.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <cstdint>
 #include <cstring>
 #include <mutex>
@@ -11,6 +7,7 @@
 
 #include "granpack/core/error.h"
 #include "granpack/io/hdf5_handle.h"
+#include "granpack/io/hdf5_raw_file.h"
 
 namespace granpack::h5 {
 
@@ -66,70 +63,9 @@ void register_raw_conversion() {
   });
 }
 
-std::uint64_t little_endian(const unsigned char* p, std::size_t bytes) {
-  std::uint64_t v = 0;
-  for (std::size_t k = bytes; k-- > 0;)
-    v = (v << 8) | p[k];
-  return v;
-}
-
-/// The file read with plain POSIX calls, independent of HDF5's driver (MPI-IO or not).
-class RawFile {
-public:
-  explicit RawFile(const std::filesystem::path& path) : fd_(::open(path.c_str(), O_RDONLY)) {
-    struct stat st {};
-    if (fd_ >= 0 && ::fstat(fd_, &st) == 0)
-      size_ = static_cast<std::uint64_t>(st.st_size);
-  }
-  ~RawFile() {
-    if (fd_ >= 0)
-      ::close(fd_);
-  }
-  RawFile(const RawFile&) = delete;
-  RawFile& operator=(const RawFile&) = delete;
-
-  bool ok() const { return fd_ >= 0; }
-  std::uint64_t size() const { return size_; }
-  /// Reads [offset, offset + n) entirely, or returns false.
-  bool read(std::uint64_t offset, std::size_t n, unsigned char* out) const {
-    std::size_t done = 0;
-    while (done < n) {
-      const ssize_t got = ::pread(fd_, out + done, n - done, static_cast<off_t>(offset + done));
-      if (got <= 0)
-        return false;
-      done += static_cast<std::size_t>(got);
-    }
-    return true;
-  }
-
-private:
-  int fd_ = -1;
-  std::uint64_t size_ = 0;
-};
-
-struct Sizes {
-  std::size_t addr = 8, length = 8; // sizeof_addr, sizeof_size of the superblock
-  std::uint64_t base = 0;           // where address 0 is: the userblock's size
-};
-
-/// The file's address and length sizes and base, through `obj`'s file.
-bool file_sizes(hid_t obj, Sizes& s) {
-  auto file = file_handle(H5Iget_file_id(obj));
-  if (!file.valid())
-    return false;
-  auto fcpl = plist_handle(H5Fget_create_plist(file));
-  hsize_t userblock = 0;
-  if (!fcpl.valid() || H5Pget_sizes(fcpl, &s.addr, &s.length) < 0 ||
-      H5Pget_userblock(fcpl, &userblock) < 0)
-    return false;
-  s.base = userblock;
-  return (s.addr == 2 || s.addr == 4 || s.addr == 8) &&
-         (s.length == 2 || s.length == 4 || s.length == 8);
-}
-
 /// Walks the collection at file offset `at` as HDF5 will and checks that object `index` is
 /// there with `length` bytes. Returns "" or what is wrong.
-std::string collection_problem(const RawFile& f, const Sizes& s, std::uint64_t at,
+std::string collection_problem(const RawFile& f, const FileSizes& s, std::uint64_t at,
                                std::uint64_t index, std::uint64_t length) {
   const std::size_t header = 4 + 1 + 3 + s.length, object_header = 2 + 2 + 4 + s.length;
   if (at >= f.size() || f.size() - at < header)
@@ -209,7 +145,7 @@ void check_variable_string(const std::filesystem::path& path, hid_t obj, bool is
     fail("variable-length string of " + std::to_string(H5Tget_size(base)) +
          "-byte characters (corrupt datatype; a string has 1-byte characters)");
 
-  Sizes s;
+  FileSizes s;
   if (!file_sizes(obj, s))
     fail("cannot read the file's address sizes");
   register_raw_conversion();

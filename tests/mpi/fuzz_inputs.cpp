@@ -16,10 +16,13 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "../fuzz/fuzz_inputs.h"
+#include "granpack/io/hdf5_header_guard.h"
 #include "mpi_world.h"
 #include "test_paths.h"
 
@@ -404,6 +407,121 @@ TEST(FuzzRegressions, CorruptGlobalHeapsAreRefusedBeforeHdf5FollowsThem) {
     EXPECT_EQ(collective.rfind(p.string() + ": " + expect, 0), 0u) << collective;
     EXPECT_LT(watchdog.end(), 5.0) << name;
   }
+}
+
+TEST(FuzzRegressions, CorruptAttributeMessagesAreRefusedBeforeHdf5DecodesThem) {
+  // H5Aexists decodes every attribute message of an object header and trusts their part sizes:
+  // the fuzzer's input (a dataspace size of 65 288 in an 80-byte message) made it copy a value
+  // from past its buffer (AddressSanitizer: an 8-byte heap over-read in H5O__msg_iterate_real).
+  // The guard (src/io/hdf5_header_guard.cpp) walks the header first. Each case changes one
+  // field of one attribute message of /parameters in a fresh seed file (version 1 headers, as
+  // granpack writes them: the body is version, reserved, name, datatype and dataspace sizes,
+  // then the three parts padded to 8 bytes and the value).
+  TempDir tmp;
+  auto u16 = [](const std::string& b, std::size_t at) {
+    return unsigned(static_cast<unsigned char>(b[at])) |
+           unsigned(static_cast<unsigned char>(b[at + 1])) << 8;
+  };
+  auto set16 = [](std::string& b, std::size_t at, unsigned v) {
+    b[at] = char(v & 0xFF), b[at + 1] = char(v >> 8);
+  };
+  auto pad8 = [](std::size_t n) { return (n + 7) / 8 * 8; };
+  // Body offset of the attribute message named `name` (its name starts 8 bytes in).
+  auto body_of = [](const std::string& b, const std::string& name) {
+    const auto at = b.find(name + std::string(1, '\0'));
+    EXPECT_NE(at, std::string::npos) << name;
+    return at - 8;
+  };
+  struct Case {
+    const char* file;
+    const char* attribute;
+    std::function<void(std::string&, std::size_t)> change;
+    std::string expect;
+  };
+  const std::vector<Case> cases = {
+      {"space_size.h5", "poisson_ratio",
+       [&](std::string& b, std::size_t m) { set16(b, m + 6, 0xFF08); },
+       "its dataspace (65288 bytes) runs past the message (64 bytes)"},
+      {"name_size.h5", "poisson_ratio",
+       [&](std::string& b, std::size_t m) { set16(b, m + 2, 0x4000); },
+       "its name (16384 bytes) runs past the message (64 bytes)"},
+      {"name_nul.h5", "poisson_ratio", [&](std::string& b, std::size_t m) { b[m + 8 + 13] = 'x'; },
+       "its name is not 13 characters and a NUL"},
+      {"type_size.h5", "poisson_ratio", [&](std::string& b, std::size_t m) { set16(b, m + 4, 8); },
+       "datatype of class 1 needs 20 bytes, the message gives it 8"},
+      {"points.h5", "stress_target",
+       [&](std::string& b, std::size_t m) {
+         // The dataspace (version 1: 8 bytes, then the dimensions) of the 3-vector.
+         const std::size_t space = m + 8 + pad8(u16(b, m + 2)) + pad8(u16(b, m + 4));
+         b[space + 8] = char(0xE8), b[space + 9] = char(0x03); // 3 -> 1000 points
+       },
+       "its value (1000 points of 8 bytes) runs past the message (24 bytes left)"}};
+  for (const auto& c : cases) {
+    const fs::path p = tmp.path / c.file;
+    fuzz::write_seed_file<3>(p, 9, 1);
+    std::string bytes = fuzz::read_bytes(p);
+    c.change(bytes, body_of(bytes, c.attribute));
+    fuzz::write_bytes(p, bytes);
+    const std::string m = read_message<3>(p);
+    const std::string head = p.string() + ": attributes of /parameters/: attribute message ";
+    EXPECT_EQ(m.rfind(head, 0), 0u) << m;
+    // The name is reported when it is intact.
+    const bool named = c.expect.rfind("its name", 0) != 0;
+    const std::string tail = (named ? " ('" + std::string(c.attribute) + "')" : std::string()) +
+                             " is corrupt: " + c.expect;
+    EXPECT_NE(m.find(tail), std::string::npos) << m;
+    EXPECT_EQ(m.find("('") == std::string::npos, !named) << m;
+    EXPECT_EQ(fuzz::check_h5(p, tmp.path), "") << c.file;
+  }
+}
+
+TEST(FuzzRegressions, AttributeGuardAcceptsEveryHeaderVersionHdf5Writes) {
+  // The guard must refuse nothing HDF5 writes: version 1 headers (granpack's files), version 2
+  // headers (libver latest, as h5py writes with libver="latest"), with attributes of the
+  // classes a user may add (integer and float arrays, fixed and variable strings, enums such as
+  // h5py's booleans) and with more attributes than fit compactly (dense storage).
+  TempDir tmp;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  for (const bool latest : {false, true})
+    for (const int count : {3, 20}) {
+      const fs::path p =
+          tmp.path / ("v" + std::to_string(latest ? 2 : 1) + "_" + std::to_string(count) + ".h5");
+      const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+      if (latest)
+        H5Pset_libver_bounds(fapl, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
+      const hid_t f = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+      const hid_t g = H5Gcreate2(f, "g", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      auto put = [&](const std::string& name, hid_t type, hid_t space, const void* v) {
+        const hid_t a = H5Acreate2(g, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+        ASSERT_GE(H5Awrite(a, type, v), 0) << name;
+        H5Aclose(a);
+      };
+      const hsize_t three = 3;
+      const hid_t scalar = H5Screate(H5S_SCALAR), vector = H5Screate_simple(1, &three, nullptr);
+      const double xyz[3] = {1, 2, 3};
+      const int ijk[3] = {4, 5, 6};
+      const hid_t fixed = H5Tcopy(H5T_C_S1), vlen = H5Tcopy(H5T_C_S1);
+      H5Tset_size(fixed, 5);
+      H5Tset_size(vlen, H5T_VARIABLE);
+      const hid_t boolean = H5Tenum_create(H5T_NATIVE_SCHAR);
+      const signed char no = 0, yes = 1;
+      H5Tenum_insert(boolean, "FALSE", &no);
+      H5Tenum_insert(boolean, "TRUE", &yes);
+      const char* text = "variable";
+      for (int k = 0; k < count; k += 5) {
+        const std::string n = std::to_string(k);
+        put("xyz" + n, H5T_NATIVE_DOUBLE, vector, xyz);
+        put("ijk" + n, H5T_NATIVE_INT, vector, ijk);
+        put("fixed" + n, fixed, scalar, "abcde");
+        put("vlen" + n, vlen, scalar, &text);
+        put("bool" + n, boolean, scalar, &yes);
+      }
+      H5Tclose(boolean), H5Tclose(vlen), H5Tclose(fixed), H5Sclose(vector), H5Sclose(scalar);
+      ASSERT_GE(H5Fflush(f, H5F_SCOPE_GLOBAL), 0); // the guard reads the bytes on disk
+      EXPECT_NO_THROW(h5::check_attribute_messages(p, g, "attributes of /g/")) << p;
+      EXPECT_NO_THROW(h5::check_attribute_messages(p, f, "attributes of /")) << p;
+      H5Gclose(g), H5Fclose(f), H5Pclose(fapl);
+    }
 }
 
 // ------------------------------------------------------------------------------------------
