@@ -129,21 +129,36 @@ def against_table(bases, cases, stage, table):
     print("|---|---|---|---|---|---|---|---|---|---|")
     columns = (("phi", "phi", 4), (zkey, "z", 3))  # (our key, [GRC]'s key, decimals)
     within, counted = {"phi": 0, "z": 0}, {"phi": 0, "z": 0}
+    # The same counts without the cells grc_paper.SUSPECT doubts, and the doubts to print.
+    within_sound, counted_sound, notes = {"phi": 0, "z": 0}, {"phi": 0, "z": 0}, []
+    suspect = grc.SUSPECT.get(table, {})
     for c, v in gather(bases, cases, stage).items():
         phi_i, mu, rr = c.split("-")
         row = [phi_i, mu, "yes" if rr == "rr" else "no", str(len(v["phi"]))]
         for ours, theirs, prec in columns:
             ref = paper[c][theirs]
+            doubt = suspect.get((c, theirs))
+            mark = " ‡" if doubt else ""
+            if doubt and doubt not in notes:
+                notes.append(doubt)
             if v[ours]:
                 d, ok = dev(v[ours], ref)
-                row += [cell(v[ours], prec), f"{ref[0]} ± {ref[1]}", d]
+                row += [cell(v[ours], prec), f"{ref[0]} ± {ref[1]}{mark}", d]
                 counted[theirs] += 1
                 within[theirs] += ok
+                if not doubt:
+                    counted_sound[theirs] += 1
+                    within_sound[theirs] += ok
             else:
-                row += ["–", f"{ref[0]} ± {ref[1]}", ""]
+                row += ["–", f"{ref[0]} ± {ref[1]}{mark}", ""]
         print("| " + " | ".join(row) + " |")
     print(f"\nwithin 2 combined standard errors: Φ {within['phi']} of {counted['phi']}, "
           f"z {within['z']} of {counted['z']}")
+    if counted_sound != counted:
+        print(f"without the cells marked ‡: Φ {within_sound['phi']} of {counted_sound['phi']}, "
+              f"z {within_sound['z']} of {counted_sound['z']}")
+    for n in notes:
+        print(f"‡ {n}")
     return 0
 
 

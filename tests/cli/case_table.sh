@@ -65,6 +65,17 @@ check "0.36-0.5-norr: Phi -0.8 % (-6.2), z -1.0 % (-1.2)" \
 check "the count within 2: Phi 1 of 2, z 2 of 2" \
   'grep -Fq "within 2 combined standard errors: Φ 1 of 2, z 2 of 2" "$scratch/against.log"' ||
   cat "$scratch/against.log"
+# A cell grc_paper.SUSPECT doubts (table III, Phi_I = 0.13 with RR: z repeats another row) is
+# marked, explained and counted apart; a sound cell beside it is not marked.
+t3="$GRANPACK_SOURCE_DIR/docs/data/2d/table3"
+check_exit "--against III with a doubted cell" 0 "$scratch/suspect.log" $py "$tool" "$t3" \
+  0.13-0.15-rr 0.36-0.5-norr --against III
+check "the doubted z is marked, the sound one not" \
+  'grep -Fq "| 3.189 ± 0.008 ‡ |" "$scratch/suspect.log" && grep -Fq "| 3.103 ± 0.006 |" "$scratch/suspect.log"' ||
+  cat "$scratch/suspect.log"
+check "the counts with and without the doubted cell, and the reason" \
+  'grep -Fq "without the cells marked ‡: Φ" "$scratch/suspect.log" && grep -Fq "z 0 of 1" "$scratch/suspect.log" && grep -q "^‡ .*repeats row 0.5244 without RR" "$scratch/suspect.log"' ||
+  cat "$scratch/suspect.log"
 # K = 1 (synthetic seed 2 alone of case a is unknown to [GRC]): the case name is refused.
 check_exit "--against with a case [GRC] do not have" 2 "$scratch/unknown.log" $py "$tool" \
   "$scratch/s2" a --against III
