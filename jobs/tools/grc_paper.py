@@ -48,15 +48,11 @@ TABLES = {"II": _by_case(_TABLE_II_PHI, _TABLE_II_Z),
           "III": _by_case(_TABLE_III_PHI, _TABLE_III_Z)}
 # Cells whose printed value is probably not the measurement, with the evidence. case_table.py
 # marks them and counts the agreement with and without them.
+_ROW_013_RR_REPEATS = ("table III's row Phi_I = 0.130 with RR (3.189 +- 0.008, 3.059 +- 0.003) "
+                      "repeats row 0.5244 without RR, value and sd alike: probably a copying "
+                      "error in [GRC]")
 SUSPECT = {
-    "III": {
-        ("0.13-0.15-rr", "z"): "table III's row Phi_I = 0.130 with RR (3.189 +- 0.008, 3.059 +- "
-                               "0.003) repeats row 0.5244 without RR, value and sd alike: "
-                               "probably a copying error in [GRC]",
-        ("0.13-0.5-rr", "z"): "table III's row Phi_I = 0.130 with RR (3.189 +- 0.008, 3.059 +- "
-                              "0.003) repeats row 0.5244 without RR, value and sd alike: "
-                              "probably a copying error in [GRC]",
-    },
+    "III": {("0.13-0.15-rr", "z"): _ROW_013_RR_REPEATS, ("0.13-0.5-rr", "z"): _ROW_013_RR_REPEATS},
 }
 # Which report value is [GRC]'s z in each table.
 Z_KEY = {"II": "z", "III": "z_int"}

@@ -48,13 +48,16 @@ std::string datatype_problem(Span d, std::size_t& used, std::uint64_t& element, 
   const std::uint64_t bits = little_endian(d.p + 1, 3);
   element = little_endian(d.p + 4, 4);
   std::size_t need = 8;
+  // The base type of a variable-length, enumeration or array type, at byte `at`: sets `need`
+  // past it and `base_element` to its size (the outer size field stays `element`: it is what
+  // HDF5 multiplies).
+  std::uint64_t base_element = 0;
   auto base = [&](std::size_t at) -> std::string {
     if (at > d.n)
       return "datatype's base type lies past its end";
     std::size_t u = 0;
-    std::uint64_t base_element = 0;
     auto p = datatype_problem({d.p + at, d.n - at}, u, base_element, depth + 1);
-    need = at + u; // the outer size field stays `element`: it is what HDF5 multiplies
+    need = at + u;
     return p;
   };
   switch (cls) {
@@ -79,11 +82,10 @@ std::string datatype_problem(Span d, std::size_t& used, std::uint64_t& element, 
       return p;
     break;
   case 8: { // enumeration: base type, member names, member values
-    std::size_t u = 0;
-    std::uint64_t value_size = 0;
-    if (auto p = datatype_problem({d.p + 8, d.n - 8}, u, value_size, depth + 1); !p.empty())
+    if (auto p = base(8); !p.empty())
       return p;
-    std::size_t at = 8 + u;
+    const std::uint64_t value_size = base_element;
+    std::size_t at = need;
     const std::uint64_t members = bits & 0xFFFF;
     for (std::uint64_t k = 0; k < members; ++k) {
       const void* nul = at < d.n ? std::memchr(d.p + at, 0, d.n - at) : nullptr;

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -72,6 +73,8 @@ template <class F> void collectively_typed(MPI_Comm comm, F&& f) {
 struct FileContext {
   std::filesystem::path path;
   bool reading = true;
+  /// The objects (by path) whose attribute messages the header guard has checked already.
+  mutable std::set<std::string> guarded{};
 
   [[noreturn]] void fail(const std::string& what, bool with_hdf5_detail = false) const {
     std::string msg = path.string() + ": " + what;
@@ -176,14 +179,28 @@ void write_attribute(const FileContext& ctx, hid_t obj, const char* name, const 
   ctx.rc(H5Awrite(attr, type, &p), std::string("cannot write attribute ") + name);
 }
 
-/// length: none for a single value, n for a 1-D array of n values.
-Handle open_attribute(const FileContext& ctx, hid_t obj, const std::string& where, const char* name,
-                      std::optional<std::size_t> length = std::nullopt) {
-  h5::check_attribute_messages(ctx.path, obj, "attributes of " + (where.empty() ? "/" : where));
+/// Before HDF5 decodes the attribute messages of `obj` (at path `where`): the header guard,
+/// once per object and file context (every lookup decodes all of the object's messages).
+void guard_attributes(const FileContext& ctx, hid_t obj, const std::string& where) {
+  const std::string at = where.empty() ? "/" : where;
+  if (ctx.guarded.insert(at).second)
+    h5::check_attribute_messages(ctx.path, obj, "attributes of " + at);
+}
+
+/// Whether `obj` (at path `where`) has the attribute; an HDF5 failure is an error.
+bool attribute_exists(const FileContext& ctx, hid_t obj, const std::string& where,
+                      const char* name) {
+  guard_attributes(ctx, obj, where);
   const htri_t exists = H5Aexists(obj, name);
   if (exists < 0)
     ctx.fail("cannot look up attribute " + where + name, true);
-  if (exists == 0)
+  return exists > 0;
+}
+
+/// length: none for a single value, n for a 1-D array of n values.
+Handle open_attribute(const FileContext& ctx, hid_t obj, const std::string& where, const char* name,
+                      std::optional<std::size_t> length = std::nullopt) {
+  if (!attribute_exists(ctx, obj, where, name))
     ctx.fail("missing attribute " + where + name);
   auto attr = h5::attribute_handle(
       ctx.id(H5Aopen(obj, name, H5P_DEFAULT), "cannot open attribute " + where + name));
@@ -546,12 +563,8 @@ StateParameters read_parameters(const FileContext& ctx, hid_t file, int dim) {
              "' (mindlin, ratio or constant)");
   law.walton_rescaling = read_attribute<int>(ctx, g, where, "walton_rescaling") != 0;
   // Written since 2026-12-06; older files had no choice (the damping could pull).
-  h5::check_attribute_messages(ctx.path, g, "attributes of " + where);
-  const htri_t has_tension = H5Aexists(g, "damping_tension");
-  if (has_tension < 0)
-    ctx.fail("cannot look up attribute " + where + "damping_tension", true);
-  law.damping_tension =
-      has_tension == 0 || read_attribute<int>(ctx, g, where, "damping_tension") != 0;
+  law.damping_tension = !attribute_exists(ctx, g, where, "damping_tension") ||
+                        read_attribute<int>(ctx, g, where, "damping_tension") != 0;
   for (const auto& [name, member] : kLawNumbers)
     law.*member = number(name);
   StressTarget& t = p.stress_target;
@@ -648,7 +661,7 @@ void write_text_dataset(const FileContext& ctx, hid_t file, MPI_Comm comm, const
 /// Not collective (metadata reads only). Root attributes, /deck, /run_state, /parameters.
 FileMeta read_meta(const FileContext& ctx, hid_t file) {
   const std::string root = "/";
-  h5::check_attribute_messages(ctx.path, file, "attributes of " + root);
+  guard_attributes(ctx, file, root);
   const htri_t has_format = H5Aexists(file, "format");
   if (has_format <= 0)
     ctx.fail("not a granpack file (no root attribute 'format')");
