@@ -173,6 +173,8 @@ MaterialSpec read_material(TableReader& r) {
   if (m.normal_law == "hertz") {
     m.young_modulus = r.number("young_modulus", Range::positive(), "Young modulus E in Pa");
     m.poisson_ratio = r.number("poisson_ratio", Range::half_open(-1.0, 0.5), "Poisson ratio nu");
+    m.walton_rescaling = r.boolean_or("walton_rescaling", true,
+                                      "scale T down by K_T(N_new)/K_T(N_old) when N^e decreases");
     if (r.has("normal_stiffness") || r.has("tangential_stiffness_ratio"))
       r.fail(r.has("normal_stiffness") ? "normal_stiffness" : "tangential_stiffness_ratio",
              "only applies to normal_law = \"linear\" (Hertz stiffnesses follow from E and nu)");
@@ -180,9 +182,9 @@ MaterialSpec read_material(TableReader& r) {
     m.normal_stiffness = r.number("normal_stiffness", Range::positive(), "K_N in N/m");
     m.tangential_stiffness_ratio =
         r.number_or("tangential_stiffness_ratio", 1.0, Range::non_negative(), "K_T/K_N");
-    if (r.has("young_modulus") || r.has("poisson_ratio"))
-      r.fail(r.has("young_modulus") ? "young_modulus" : "poisson_ratio",
-             "only applies to normal_law = \"hertz\"");
+    for (const char* key : {"young_modulus", "poisson_ratio", "walton_rescaling"})
+      if (r.has(key))
+        r.fail(key, "only applies to normal_law = \"hertz\"");
   }
   m.friction = r.number("friction", Range::non_negative(), "friction coefficient mu (inf allowed)");
   m.damping =

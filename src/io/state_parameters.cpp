@@ -17,6 +17,7 @@ ContactLawParams contact_law_params(const MaterialSpec& m) {
   }
   p.damping_ratio = m.damping;
   p.damping_tension = m.damping_tension;
+  p.walton_rescaling = m.walton_rescaling;
   p.friction = m.friction;
   p.cohesion_force = m.cohesion_force;
   p.cohesion_range = m.cohesion_range;

@@ -145,6 +145,19 @@ TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
   EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\nrolling_stiffness = -1.0"))
                 .find("[material] rolling_stiffness: = -1.0 is out of range"),
             std::string::npos);
+  // Walton's rescaling is a property of the Hertz law's K_T(N); the linear law has none.
+  EXPECT_NE(message_of(with("damping = 0.5", "damping = 0.5\nwalton_rescaling = false"))
+                .find("[material] walton_rescaling: only applies to normal_law = \"hertz\""),
+            std::string::npos);
+  const std::string hertz = with("normal_law = \"linear\"\nnormal_stiffness = 1.0e5",
+                                 "young_modulus = 70e9\npoisson_ratio = 0.3");
+  EXPECT_TRUE(parse_deck(hertz, "t.toml").material.walton_rescaling);
+  good = hertz;
+  const Deck no_walton =
+      parse_deck(with("damping = 0.5", "damping = 0.5\nwalton_rescaling = false"), "t.toml");
+  EXPECT_FALSE(no_walton.material.walton_rescaling);
+  EXPECT_FALSE(contact_law_params(no_walton.material).walton_rescaling);
+  good = kGood;
   // Load balancing: a threshold of 1 would move the planes at every rebuild of a balanced run.
   EXPECT_NE(message_of(with("[output]", "[numerics]\nload_balance = true\n"
                                         "load_balance_threshold = 1.0\n[output]"))

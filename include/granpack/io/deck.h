@@ -34,6 +34,7 @@ struct MaterialSpec {
   double friction = 0;                   ///< mu, may be inf
   double damping = 0;                    ///< zeta, fraction of critical damping
   bool damping_tension = true;           ///< N^e + N^v may pull (false: N^v >= -N^e)
+  bool walton_rescaling = true;          ///< [AR] App. A (hertz); false only for experiments
   // [GRC] parts, off when 0 (2D forces are per unit thickness, as every 2D force here).
   double cohesion_force = 0;    ///< F0, N: maximum attraction (eq. 4-5)
   double cohesion_range = 0;    ///< D0, m: range of the attraction
