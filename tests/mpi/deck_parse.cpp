@@ -101,12 +101,13 @@ TEST(Deck, StageKindsAreTheRegistryInDocumentationOrder) {
 }
 
 TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
-  std::string good = kGood;
-  auto with = [&](const std::string& from, const std::string& to) {
-    std::string t = good;
+  auto replaced = [](std::string t, const std::string& from, const std::string& to) {
     auto pos = t.find(from);
     EXPECT_NE(pos, std::string::npos) << from;
     return t.replace(pos, from.size(), to);
+  };
+  auto with = [&](const std::string& from, const std::string& to) {
+    return replaced(kGood, from, to);
   };
   EXPECT_NE(message_of(with("damping = 0.5", "damping = -0.5"))
                 .find("[material] damping: = -0.5 is out of range"),
@@ -152,12 +153,10 @@ TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
   const std::string hertz = with("normal_law = \"linear\"\nnormal_stiffness = 1.0e5",
                                  "young_modulus = 70e9\npoisson_ratio = 0.3");
   EXPECT_TRUE(parse_deck(hertz, "t.toml").material.walton_rescaling);
-  good = hertz;
-  const Deck no_walton =
-      parse_deck(with("damping = 0.5", "damping = 0.5\nwalton_rescaling = false"), "t.toml");
+  const Deck no_walton = parse_deck(
+      replaced(hertz, "damping = 0.5", "damping = 0.5\nwalton_rescaling = false"), "t.toml");
   EXPECT_FALSE(no_walton.material.walton_rescaling);
   EXPECT_FALSE(contact_law_params(no_walton.material).walton_rescaling);
-  good = kGood;
   // Load balancing: a threshold of 1 would move the planes at every rebuild of a balanced run.
   EXPECT_NE(message_of(with("[output]", "[numerics]\nload_balance = true\n"
                                         "load_balance_threshold = 1.0\n[output]"))
