@@ -13,15 +13,29 @@ H_over_Nf) over the seeds both ensembles have: each seed's difference OTHER - BA
 and its standard error (sample sd / sqrt(K), ddof = 1).
 """
 import argparse
-import json
 
 import numpy as np
 
+import granpack_io as gio
+
 
 def per_seed(spec, key):
+    """{seed: value of KEY} of the ensemble FILE:STEM; a clear error if any part is missing."""
+    if ":" not in spec:
+        gio.fail("paired_ensembles.py", f"{spec}: expected FILE:STEM, e.g. out/D/ensemble.json:D")
     path, stem = spec.rsplit(":", 1)
-    e = json.load(open(path))
-    return dict(zip(e["seeds"], e["analysis"][stem]["/" + key]["values"]))
+    try:
+        e = gio.read_ensemble(path)
+    except gio.GranpackFileError as err:
+        gio.fail("paired_ensembles.py", str(err))
+    block = e.get("analysis", {}).get(stem)
+    if block is None:
+        gio.fail("paired_ensembles.py", f"{path}: no configuration \"{stem}\" in \"analysis\" "
+                 f"(it has: {', '.join(sorted(e.get('analysis', {})))})")
+    entry = block.get("/" + key)
+    if entry is None:
+        gio.fail("paired_ensembles.py", f"{path}:{stem}: no scalar \"{key}\"")
+    return dict(zip(e["seeds"], entry["values"]))
 
 
 def main():
