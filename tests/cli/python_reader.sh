@@ -184,6 +184,13 @@ check("analysis JSON: curves as arrays", isinstance(aj["g_r"]["g_I"], np.ndarray
 check("analysis --h5 and --json agree (g(r), P(f), phi)",
       np.allclose(aj["g_r"]["g_I"], ah["g_r"]["g_I"]) and np.allclose(aj["P_f"]["pdf"], ah["P_f"]["pdf"])
       and abs(aj["phi"] - ah["phi"]) < 1e-15 and abs(aj["phi"] - p.phi) < 1e-9)
+import contact_threshold_scan as cts
+x0, z_star, x2 = cts.backbone_counts(p, 1e-4)
+check(f"contact_threshold_scan at 1e-4 a^2 P = analyze (x0 {x0}, z* {z_star}, x2 {x2})",
+      abs(x0 - aj["x0"]) < 1e-12 and abs(z_star - aj["z_star"]) < 1e-9 and abs(x2 - aj["x2"]) < 1e-12)
+x0_hi, z_hi, _ = cts.backbone_counts(p, 0.3)
+check(f"contact_threshold_scan: a higher threshold drops contacts (z* {z_star} -> {z_hi})",
+      z_hi < z_star and x0_hi >= x0)
 check("read() dispatches on content", isinstance(gio.read(f"{out}/final.h5"), gio.Packing)
       and isinstance(gio.read(f"{out}/report.json"), gio.Report)
       and isinstance(gio.read(f"{out}/analysis.h5"), dict))
