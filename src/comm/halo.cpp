@@ -159,6 +159,31 @@ template <int dim> void Halo<dim>::prepare_window(const Decomposition<dim>& d) {
 }
 
 template <int dim>
+double* Halo<dim>::outgoing(bool shared, int kind, int axis, int q, int parity,
+                            std::size_t n) const {
+  if (shared)
+    return window_->mine(slot(kind, axis, q, parity));
+  out_[q].resize(n);
+  return out_[q].data();
+}
+
+template <int dim>
+void Halo<dim>::deliver(bool shared, int kind, int axis, int parity, const Decomposition<dim>& d,
+                        const std::size_t (&n_in)[2], const int (&to)[2], const int (&from)[2],
+                        const double* (&in)[2]) const {
+  const int tag = kind == kForward ? 30 : 40;
+  if (shared) {
+    window_->notify(to, from, tag);
+    for (int q = 0; q < 2; ++q)
+      in[q] = window_->of(from[q], slot(kind, axis, q, parity));
+  } else {
+    exchange_axis(d.comm(), out_, in_, n_in, to, from, tag);
+    for (int q = 0; q < 2; ++q)
+      in[q] = in_[q].data();
+  }
+}
+
+template <int dim>
 void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
   constexpr int per = 2 * dim + rot_dim<dim>;
   const bool shared = through_shared_memory();
@@ -180,13 +205,7 @@ void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) cons
     const double* in[2];
     for (int q = 0; q < 2; ++q) {
       const Swap& sw = swaps_[s0 + q];
-      double* o = nullptr;
-      if (shared) {
-        o = window_->mine(slot(kForward, axis, q, parity));
-      } else {
-        out_[q].resize(sw.send.size() * per);
-        o = out_[q].data();
-      }
+      double* o = outgoing(shared, kForward, axis, q, parity, sw.send.size() * per);
       for (std::size_t i : sw.send) {
         for (int a = 0; a < dim; ++a)
           *o++ = p.position[i][a] + (a == sw.axis ? sw.shift : 0.0);
@@ -199,15 +218,7 @@ void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) cons
       to[q] = sw.to;
       from[q] = sw.from;
     }
-    if (shared) {
-      window_->notify(to, from, 30);
-      for (int q = 0; q < 2; ++q)
-        in[q] = window_->of(from[q], slot(kForward, axis, q, parity));
-    } else {
-      exchange_axis(d.comm(), out_, in_, n_in, to, from, 30);
-      for (int q = 0; q < 2; ++q)
-        in[q] = in_[q].data();
-    }
+    deliver(shared, kForward, axis, parity, d, n_in, to, from, in);
     for (int q = 0; q < 2; ++q) {
       const Swap& sw = swaps_[s0 + q];
       const double* i = in[q];
@@ -246,13 +257,7 @@ void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) cons
     const double* in[2];
     for (int q = 0; q < 2; ++q) {
       const Swap& sw = swaps_[s0 - 2 + q];
-      double* o = nullptr;
-      if (shared) {
-        o = window_->mine(slot(kReverse, axis, q, parity));
-      } else {
-        out_[q].resize(sw.recv_count * per);
-        o = out_[q].data();
-      }
+      double* o = outgoing(shared, kReverse, axis, q, parity, sw.recv_count * per);
       for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
         for (int a = 0; a < dim; ++a)
           *o++ = p.force[g][a];
@@ -266,15 +271,7 @@ void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) cons
       to[q] = sw.from;
       from[q] = sw.to;
     }
-    if (shared) {
-      window_->notify(to, from, 40);
-      for (int q = 0; q < 2; ++q)
-        in[q] = window_->of(from[q], slot(kReverse, axis, q, parity));
-    } else {
-      exchange_axis(d.comm(), out_, in_, n_in, to, from, 40);
-      for (int q = 0; q < 2; ++q)
-        in[q] = in_[q].data();
-    }
+    deliver(shared, kReverse, axis, parity, d, n_in, to, from, in);
     for (int q = 1; q >= 0; --q) { // +1 then -1, the order of the swaps reversed
       const Swap& sw = swaps_[s0 - 2 + q];
       const double* i = in[q];

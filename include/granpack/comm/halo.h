@@ -72,6 +72,15 @@ private:
   /// The shared-memory window for d's communicator (created at the first borders(), and again
   /// if d's ranks change), with room for every slot of the current ghost lists. Collective.
   void prepare_window(const Decomposition<dim>& d);
+  /// Where swap q of an axis's exchange packs its n doubles: this rank's window slot (shared)
+  /// or the message buffer out_[q].
+  double* outgoing(bool shared, int kind, int axis, int q, int parity, std::size_t n) const;
+  /// Delivers what an axis's two swaps packed (to ranks to[q]) and points in[q] at what ranks
+  /// from[q] packed for us (n_in[q] doubles): the writer's window slot after the notifications
+  /// (shared), or in_[q] after the messages. Collective with the axis's neighbours.
+  void deliver(bool shared, int kind, int axis, int parity, const Decomposition<dim>& d,
+               const std::size_t (&n_in)[2], const int (&to)[2], const int (&from)[2],
+               const double* (&in)[2]) const;
   /// The window's slot for (kind: 0 forward, 1 reverse; axis; q: the swap towards -1 or +1;
   /// parity of the exchange), the same on every rank (halo.cpp explains the double buffer).
   static std::size_t slot(int kind, int axis, int q, int parity) {
