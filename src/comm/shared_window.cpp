@@ -1,6 +1,7 @@
 #include "granpack/comm/shared_window.h"
 
 #include <algorithm>
+#include <exception>
 
 #include "granpack/core/error.h"
 
@@ -39,6 +40,14 @@ SharedWindow::~SharedWindow() {
   int finalized = 0;
   MPI_Finalized(&finalized);
   if (finalized)
+    return;
+  // Destroyed while an exception unwinds: the error is either collective (every rank unwinds
+  // and skips the free alike) or known to this rank alone, on its way to main's MPI_Abort,
+  // while the other ranks wait elsewhere; the collective free would then wait for them
+  // forever instead of letting the job abort. So the window and its communicator are left to
+  // MPI_Finalize (Open MPI 4.1 finalizes cleanly with a locked shared window still open) or to
+  // the abort. The price: a leaked window per Halo alive at a collective error.
+  if (std::uncaught_exceptions() > 0)
     return;
   release();
   MPI_Comm_free(&comm_);

@@ -301,6 +301,37 @@ TEST(HaloSharedMemory, EqualsMessagesBitForBitWithImagesSentOn3D) {
   expect_shared_memory_halo_equals_messages<3>(all_along_the_last_axis<3>());
 }
 
+// An error on every rank while a shared-memory halo is alive (a collective error, as the
+// engine's): unwinding leaves its window to MPI_Finalize instead of a collective free (which
+// would hang if the error were one rank's alone), and the ranks carry on: a new halo works.
+TEST(HaloSharedMemory, ACollectiveErrorWhileItIsAliveLetsTheRanksCarryOn) {
+  const auto all = random_grains<3>(500, 5);
+  Decomposition<3> d(MPI_COMM_WORLD, Vec<3>::Ones());
+  auto owned = [&] {
+    ParticleStore<3> p;
+    for (const auto& q : all)
+      if (d.owns(q.position))
+        p.add_owned(q);
+    return p;
+  };
+  ParticleStore<3> p = owned();
+  try {
+    Halo<3> halo(HaloTransport::shared_memory);
+    halo.borders(p, d, Vec<3>::Constant(0.1));
+    halo.forward(p, d);
+    throw InputError("every rank fails here");
+  } catch (const InputError&) {
+  }
+  EXPECT_EQ(global_sum(MPI_COMM_WORLD, std::int64_t(1)), d.size());
+  ParticleStore<3> pm = owned(), ps = owned();
+  Halo<3> hm(HaloTransport::messages), hs(HaloTransport::shared_memory);
+  hm.borders(pm, d, Vec<3>::Constant(0.1));
+  hs.borders(ps, d, Vec<3>::Constant(0.1));
+  hm.forward(pm, d);
+  hs.forward(ps, d);
+  EXPECT_EQ(bit_differences(pm, ps), "");
+}
+
 TEST(Decomposition, UnevenCutsGiveEveryPointOneOwnerInsideItsBox) {
   Decomposition<3> d(MPI_COMM_WORLD, Vec<3>::Ones());
   cut_unevenly(d);

@@ -26,7 +26,8 @@ public:
   /// nothing yet (reserve()).
   explicit SharedWindow(MPI_Comm comm);
   /// Collective on the communicator (frees the window and the duplicate): every rank must
-  /// destroy its SharedWindow, as every rank destroys the Halo holding it.
+  /// destroy its SharedWindow, as every rank destroys the Halo holding it. Destroyed while an
+  /// exception unwinds, it frees nothing (not collective: shared_window.cpp says why).
   ~SharedWindow();
   SharedWindow(const SharedWindow&) = delete;
   SharedWindow& operator=(const SharedWindow&) = delete;
