@@ -36,7 +36,8 @@ enum class HaloTransport {
 
 template <int dim> class Halo {
 public:
-  /// shared_memory falls back to messages when the ranks span several nodes (or there is one).
+  /// shared_memory falls back to messages when the ranks span several nodes or there is only
+  /// one rank.
   explicit Halo(HaloTransport transport = HaloTransport::messages) : transport_(transport) {}
   /// Clears the old ghosts and builds new ones within `width` (scaled units, per axis) of the
   /// sub-box faces. Requires width[a] <= sub-box width along a (nearest neighbours only).
