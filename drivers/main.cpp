@@ -175,6 +175,10 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--static-forces", bench_forces,
                         "also write the static force on each grain");
   bench_cmd->add_option("--json", bench_json, "also write the results as JSON to this file");
+  bench_cmd
+      ->add_option("--halo", bench.halo,
+                   "the halo's transport, as [numerics] halo (default messages)")
+      ->check(CLI::IsMember({"messages", "shared_memory"}));
   std::vector<std::string> check_paths;
   auto* check_cmd =
       app.add_subcommand("check", "validate decks as `run` would, without running them");

@@ -14,7 +14,10 @@
 # shared machine), E2E (default empty: decks under jobs/decks/ run end to end on 2 ranks after
 # the ratios, e.g. E2E="A experiments/A_dt0.05 B"; each prints its wall time and the state's
 # Phi and z*: issue 32's time-to-state targets), ED (default 1: the event-driven melt's
-# collisions per second, jobs/bench/ed_bench.cpp, if the build has granpack_ed_bench).
+# collisions per second, jobs/bench/ed_bench.cpp, if the build has granpack_ed_bench), HALO
+# (default messages: the halo's transport of the timed granpack runs, `granpack bench --halo`,
+# and of the E2E decks, run from a copy with [numerics] halo set; HALO=shared_memory, against
+# a run of the default on the same machine, times docs/performance.md "The shared-memory halo").
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -26,6 +29,7 @@ steps=${STEPS:-1000}
 sizes=${SIZES:-"1x1x1 2x2x2"}
 ranks=${RANKS:-"1 2"}
 repeat=${REPEAT:-2}
+halo=${HALO:-messages}
 py=/usr/bin/python3
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 # A rank waiting in MPI yields its core instead of spinning: on a machine shared with other
@@ -41,7 +45,7 @@ if ! command -v lmp >/dev/null; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends lammps >/dev/null
 fi
 
-echo "[bench] $(date -u +%FT%TZ) load: $(cut -d' ' -f1-3 /proc/loadavg)  granpack $("$exe" --version)  $(lmp -h | sed -n 's/^Large-scale.*- \(.*\)$/LAMMPS \1/p' | head -1)"
+echo "[bench] $(date -u +%FT%TZ) load: $(cut -d' ' -f1-3 /proc/loadavg)  halo: $halo  granpack $("$exe" --version)  $(lmp -h | sed -n 's/^Large-scale.*- \(.*\)$/LAMMPS \1/p' | head -1)"
 for size in $sizes; do
   read -r kx ky kz <<<"${size//x/ }"
   dir=$out/$size
@@ -61,7 +65,7 @@ for size in $sizes; do
     for np in $ranks; do
       echo "[bench] $size np=$np try $r load $(cut -d' ' -f1 /proc/loadavg)"
       mpirun -np "$np" "$exe" bench "$packing" --replicate "$kx" "$ky" "$kz" --steps "$steps" \
-        --json "$dir/granpack_np${np}_$r.json" >"$dir/granpack_np${np}_$r.txt"
+        --halo "$halo" --json "$dir/granpack_np${np}_$r.json" >"$dir/granpack_np${np}_$r.txt"
       (cd "$dir" && mpirun -np "$np" lmp -in "$here/lammps/in.granular" -var data bench.data \
          -var dt "$dt" -var skin "$skin" -var steps "$steps" -var mode run \
          -log "lammps_np${np}_$r.log" -screen none)
@@ -76,8 +80,20 @@ fi
 for deck in ${E2E:-}; do
   d=$out/e2e/${deck//\//_}
   rm -rf "$d" && mkdir -p "$out/e2e"
+  deck_file=$root/jobs/decks/$deck.toml
+  if [ "$halo" != messages ]; then
+    # A copy of the deck with [numerics] halo set: under its [numerics] header, or in a new
+    # table at the end (read stages' paths are relative to the working directory: unchanged).
+    gen=$d.toml
+    if grep -q '^\[numerics\]' "$deck_file"; then
+      sed "/^\[numerics\]/a halo = \"$halo\"" "$deck_file" >"$gen"
+    else
+      { cat "$deck_file"; printf '\n[numerics]\nhalo = "%s"\n' "$halo"; } >"$gen"
+    fi
+    deck_file=$gen
+  fi
   t0=$(date +%s.%N)
-  mpirun -np 2 "$exe" run "$root/jobs/decks/$deck.toml" -o "$d" -q >"$d.log" 2>&1 \
+  mpirun -np 2 "$exe" run "$deck_file" -o "$d" -q >"$d.log" 2>&1 \
     || { echo "[bench] $deck failed (log $d.log)" >&2; continue; }
   t1=$(date +%s.%N)
   $py "$here/e2e_line.py" "$deck" "$t0" "$t1" "$d"

@@ -182,6 +182,7 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   const ContactLaw<3> law = make_contact_law<3>(ctx.contact_law);
   MdSettings<3> s;
   s.skin = o.skin * a;
+  s.halo = o.halo == "shared_memory" ? HaloTransport::shared_memory : HaloTransport::messages;
   s.dt = o.time_step_fraction *
          contact_duration(ctx.contact_law, mat.density, sample, 3, o.pressure); // provisional
 
@@ -291,6 +292,9 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
   const double ghosts_max = global_max(world, static_cast<double>(p.n_ghost()));
   const double owned_max = global_max(world, static_cast<double>(p.n_owned()));
   const double pressure_end = obs.stress.trace() / 3;
+  // The transport the halo used (shared_memory asked for falls back to messages on 1 rank or
+  // across nodes).
+  const char* halo = engine.halo().through_shared_memory() ? "shared_memory" : "messages";
 
   char buf[2048];
   std::snprintf(
@@ -308,7 +312,7 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       "  memory: peak RSS %.1f MiB per rank (max), %.0f bytes per grain above the start-up "
       "footprint\n"
       "  ghosts: %.0f in all (largest rank: %.0f for %.0f owned), halo traffic %.3g MB per step "
-      "per rank\n",
+      "per rank, through %s\n",
       static_cast<long long>(n), o.file.filename().c_str(), o.replicate[0], o.replicate[1],
       o.replicate[2], ranks, static_cast<long long>(o.steps), static_pressure,
       static_cast<long long>(static_contacts), 2.0 * double(static_contacts) / double(n),
@@ -320,7 +324,7 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
       phases[0] > 0 ? forces_max / phases[0] : 1.0,
       phases[0] > 0 ? forces_step_max / phases[0] : 1.0, 100 * (forces_step_max - phases[0]) / wall,
       rss_max / 1048576.0, grown / double(n), ghosts, ghosts_max, owned_max,
-      ghosts_max * 15 * 8 / 1e6);
+      ghosts_max * 15 * 8 / 1e6, halo);
   std::string report = root ? std::string(buf) : std::string();
   if (o.json && root) {
     std::ofstream f(*o.json);
@@ -332,12 +336,12 @@ std::string run_bench(MPI_Comm world, const BenchOptions& o) {
         "\"comm\": %.6g, \"integrate\": %.6g, "
         "\"rebuilds\": %lld, \"static_pressure\": %.17g, \"static_contacts\": %lld, "
         "\"rss_max_bytes\": %.6g, \"bytes_per_grain\": %.6g, \"ghosts\": %.0f, "
-        "\"ghosts_max\": %.0f, \"owned_max\": %.0f}\n",
+        "\"ghosts_max\": %.0f, \"owned_max\": %.0f, \"halo\": \"%s\"}\n",
         static_cast<long long>(n), ranks, static_cast<long long>(o.steps), s.dt, s.skin, wall,
         pstep, phases[0], forces_max, forces_step_max, phases[1], phases[2], phases[3],
         static_cast<long long>(engine.rebuilds() - rebuilds0), static_pressure,
         static_cast<long long>(static_contacts), rss_max, grown / double(n), ghosts, ghosts_max,
-        owned_max);
+        owned_max, halo);
     f << buf;
   }
   return report;

@@ -13,6 +13,7 @@
 #include "granpack/comm/communicator.h"
 #include "granpack/comm/rebalance.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/comm/shared_window.h"
 #include "granpack/core/error.h"
 #include "granpack/engine/checkpoint.h"
 #include "granpack/engine/stop_signals.h"
@@ -325,6 +326,11 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
            ", n = " + std::to_string(deck.sample.n));
   if (!lock.warning().empty())
     log.warn(lock.warning());
+  // The shared-memory halo needs every rank on one node; otherwise the halo quietly uses
+  // messages (comm/halo.h). Said once here rather than by every MD engine of the run.
+  if (deck.numerics.halo == "shared_memory" && size > 1 && !ranks_share_one_node(world))
+    log.info("[numerics] halo = \"shared_memory\": the ranks are on several nodes, so the halo "
+             "uses messages");
 
   CheckpointPolicy policy;
   policy.file = out / "checkpoint.h5";

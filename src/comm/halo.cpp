@@ -93,11 +93,103 @@ void Halo<dim>::borders(ParticleStore<dim>& p, const Decomposition<dim>& d, cons
       swaps_.push_back(std::move(sw));
     }
   }
+  prepare_window(d);
+}
+
+// The shared-memory path (HaloTransport::shared_memory)
+// ------------------------------------------------------
+// Each rank's segment of the window holds one slot per (direction kind, axis, q, parity):
+// kind forward or reverse, q the swap of the axis (towards -1 or +1), parity that of the
+// kind's exchange count. A writer packs what it would send to rank to[q] into its own slot,
+// exactly as into out_[q]; the reader unpacks from the writer's slot, exactly as from in_[q],
+// after the notification of that exchange (SharedWindow::notify: zero-byte messages with
+// MPI_Win_sync around them). Same doubles, same order, same places, same sums: the results
+// are those of the message path bit for bit.
+//
+// Why the double buffer is safe (no rank overwrites a slot before its reader is done with it):
+// count a kind's exchanges n = 0, 1, 2, ... (forward and reverse separately); every rank has
+// the same count, since forward() and reverse() are collective. In exchange n of an axis, rank
+// R writes its slots of parity n % 2 for its two neighbours along the axis (to[0] below, to[1]
+// above in forward; the other way round in reverse), which read them during their exchange n.
+// R writes those slots again only in exchange n + 2. Before that, R has completed exchange
+// n + 1, whose wait receives the notification of exchange n + 1 from each of its two
+// neighbours: the ranks R hears from (from[0], from[1]) are the ranks it writes for (to[1],
+// to[0]). A rank sends its notifications of exchange n + 1 only after it has unpacked all of
+// exchange n (program order; the MPI_Win_sync before the sends orders those loads before
+// them). So every read of exchange n is over before any write of exchange n + 2 begins. The
+// writes of exchange n + 1 go to the other parity, whose reads (exchange n - 1) ended before R
+// completed exchange n, by the same argument. With 2 ranks along the axis both neighbours are
+// one rank T (to[0] = to[1] = from[0] = from[1] = T): R writes both slots for T and waits for
+// both of T's notifications (tags tag + 0 and tag + 1, each matched by its own receive), which
+// T sends only after unpacking both of R's slots of the exchange before; the argument holds
+// unchanged. Successive notifications between the same pair with the same tag are matched in
+// the order sent (MPI's non-overtaking rule). Forward and reverse have their own slots and
+// counts and each axis its own slots, so their interleaving does not matter; an axis with one
+// rank never uses the window (its ghosts are our own images, copied in place).
+// The window is reallocated only in borders(), collectively, after every rank finished its
+// last exchange (SharedWindow::release synchronises before it frees).
+namespace {
+constexpr int kForward = 0, kReverse = 1;
+}
+
+template <int dim> void Halo<dim>::prepare_window(const Decomposition<dim>& d) {
+  if (transport_ != HaloTransport::shared_memory || d.size() == 1) {
+    window_.reset();
+    return;
+  }
+  if (!window_ || !window_->serves(d.comm())) {
+    window_.reset(); // frees the old window first (collective on its ranks: the same ranks)
+    window_ = std::make_unique<SharedWindow>(d.comm());
+  }
+  if (!window_->on_one_node())
+    return; // messages (run_deck logs it once)
+  constexpr std::size_t per_forward = 2 * dim + rot_dim<dim>, per_reverse = dim + rot_dim<dim>;
+  std::vector<std::size_t> need(2 * dim * 2 * 2, 0);
+  for (std::size_t s = 0; s < swaps_.size(); ++s) {
+    const Swap& sw = swaps_[s];
+    if (sw.self)
+      continue;
+    const int q = static_cast<int>(s % 2);
+    for (int parity = 0; parity < 2; ++parity) {
+      need[slot(kForward, sw.axis, q, parity)] = sw.send.size() * per_forward;
+      need[slot(kReverse, sw.axis, q, parity)] = sw.recv_count * per_reverse;
+    }
+  }
+  window_->reserve(need);
+}
+
+template <int dim>
+double* Halo<dim>::outgoing(bool shared, int kind, int axis, int q, int parity,
+                            std::size_t n) const {
+  if (shared)
+    return window_->mine(slot(kind, axis, q, parity));
+  out_[q].resize(n);
+  return out_[q].data();
+}
+
+template <int dim>
+void Halo<dim>::deliver(bool shared, int kind, int axis, int parity, const Decomposition<dim>& d,
+                        const std::size_t (&n_in)[2], const int (&to)[2], const int (&from)[2],
+                        const double* (&in)[2]) const {
+  const int tag = kind == kForward ? 30 : 40;
+  if (shared) {
+    window_->notify(to, from, tag);
+    for (int q = 0; q < 2; ++q)
+      in[q] = window_->of(from[q], slot(kind, axis, q, parity));
+  } else {
+    exchange_axis(d.comm(), out_, in_, n_in, to, from, tag);
+    for (int q = 0; q < 2; ++q)
+      in[q] = in_[q].data();
+  }
 }
 
 template <int dim>
 void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
   constexpr int per = 2 * dim + rot_dim<dim>;
+  const bool shared = through_shared_memory();
+  const int parity = static_cast<int>(forward_exchanges_ % 2);
+  if (shared)
+    ++forward_exchanges_;
   // swaps_ holds, per axis, the exchange towards -1 then the one towards +1 (borders()).
   for (std::size_t s0 = 0; s0 < swaps_.size(); s0 += 2) {
     if (swaps_[s0].self) { // then both are: one rank along the axis
@@ -107,12 +199,13 @@ void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) cons
         copy_to_images(p, swaps_[s0 + q]);
       continue;
     }
+    const int axis = swaps_[s0].axis;
     std::size_t n_in[2];
     int to[2], from[2];
+    const double* in[2];
     for (int q = 0; q < 2; ++q) {
       const Swap& sw = swaps_[s0 + q];
-      out_[q].resize(sw.send.size() * per);
-      double* o = out_[q].data();
+      double* o = outgoing(shared, kForward, axis, q, parity, sw.send.size() * per);
       for (std::size_t i : sw.send) {
         for (int a = 0; a < dim; ++a)
           *o++ = p.position[i][a] + (a == sw.axis ? sw.shift : 0.0);
@@ -125,17 +218,17 @@ void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) cons
       to[q] = sw.to;
       from[q] = sw.from;
     }
-    exchange_axis(d.comm(), out_, in_, n_in, to, from, 30);
+    deliver(shared, kForward, axis, parity, d, n_in, to, from, in);
     for (int q = 0; q < 2; ++q) {
       const Swap& sw = swaps_[s0 + q];
-      const double* in = in_[q].data();
+      const double* i = in[q];
       for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
         for (int a = 0; a < dim; ++a)
-          p.position[g][a] = *in++;
+          p.position[g][a] = *i++;
         for (int a = 0; a < dim; ++a)
-          p.velocity[g][a] = *in++;
+          p.velocity[g][a] = *i++;
         for (int a = 0; a < rot_dim<dim>; ++a)
-          p.angular_velocity[g][a] = *in++;
+          p.angular_velocity[g][a] = *i++;
       }
     }
   }
@@ -144,6 +237,10 @@ void Halo<dim>::forward(ParticleStore<dim>& p, const Decomposition<dim>& d) cons
 template <int dim>
 void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) const {
   constexpr int per = dim + rot_dim<dim>;
+  const bool shared = through_shared_memory();
+  const int parity = static_cast<int>(reverse_exchanges_ % 2);
+  if (shared)
+    ++reverse_exchanges_;
   // Axes in reverse order (ghosts of later axes may be images of earlier axes' ghosts).
   for (std::size_t s0 = swaps_.size(); s0 >= 2; s0 -= 2) {
     if (swaps_[s0 - 2].self) {
@@ -154,12 +251,13 @@ void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) cons
         add_from_images(p, swaps_[s0 - 2 + q]);
       continue;
     }
+    const int axis = swaps_[s0 - 2].axis;
     std::size_t n_in[2];
     int to[2], from[2];
+    const double* in[2];
     for (int q = 0; q < 2; ++q) {
       const Swap& sw = swaps_[s0 - 2 + q];
-      out_[q].resize(sw.recv_count * per);
-      double* o = out_[q].data();
+      double* o = outgoing(shared, kReverse, axis, q, parity, sw.recv_count * per);
       for (std::size_t g = sw.recv_first; g < sw.recv_first + sw.recv_count; ++g) {
         for (int a = 0; a < dim; ++a)
           *o++ = p.force[g][a];
@@ -173,15 +271,15 @@ void Halo<dim>::reverse(ParticleStore<dim>& p, const Decomposition<dim>& d) cons
       to[q] = sw.from;
       from[q] = sw.to;
     }
-    exchange_axis(d.comm(), out_, in_, n_in, to, from, 40);
+    deliver(shared, kReverse, axis, parity, d, n_in, to, from, in);
     for (int q = 1; q >= 0; --q) { // +1 then -1, the order of the swaps reversed
       const Swap& sw = swaps_[s0 - 2 + q];
-      const double* in = in_[q].data();
-      for (std::size_t i : sw.send) {
+      const double* i = in[q];
+      for (std::size_t k : sw.send) {
         for (int a = 0; a < dim; ++a)
-          p.force[i][a] += *in++;
+          p.force[k][a] += *i++;
         for (int a = 0; a < rot_dim<dim>; ++a)
-          p.torque[i][a] += *in++;
+          p.torque[k][a] += *i++;
       }
     }
   }

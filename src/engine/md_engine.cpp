@@ -22,7 +22,7 @@ namespace granpack {
 template <int dim>
 MdEngine<dim>::MdEngine(RunContext<dim>& ctx, const ContactLaw<dim>& law,
                         const MdSettings<dim>& settings)
-    : ctx_(ctx), law_(law), settings_(settings) {
+    : ctx_(ctx), law_(law), settings_(settings), halo_(settings.halo) {
   GRANPACK_CHECK(ctx.decomposition, "the MD engine needs a sample (a lattice or random stage)");
   GRANPACK_CHECK(settings.dt > 0, "time step must be positive");
   double r = 0;

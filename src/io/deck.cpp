@@ -228,6 +228,7 @@ NumericsSpec read_numerics(TableReader& r) {
       r.number_or("load_balance_threshold", n.load_balance_threshold,
                   Range{1.0, std::numeric_limits<double>::infinity(), true, false},
                   "largest rank's grain count over the mean above which the cut planes move");
+  n.halo = r.choice_or("halo", n.halo, {"messages", "shared_memory"}, "the halo's transport");
   r.finish();
   return n;
 }

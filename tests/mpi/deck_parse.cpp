@@ -78,6 +78,7 @@ TEST(Deck, ParsesEveryKeyWithDefaults) {
   EXPECT_DOUBLE_EQ(d.numerics.time_step_fraction, 0.02);
   EXPECT_FALSE(d.numerics.load_balance);
   EXPECT_DOUBLE_EQ(d.numerics.load_balance_threshold, 1.1);
+  EXPECT_EQ(d.numerics.halo, "messages");
   EXPECT_TRUE(d.output.quiet);
   ASSERT_EQ(d.stages.size(), 3u);
   const auto& c = std::get<CompressStage>(d.stages[0].params);
@@ -170,6 +171,17 @@ TEST(Deck, RejectionsNameTheKeyValueAndWhatIsAllowed) {
                              "t.toml");
   EXPECT_TRUE(lb.numerics.load_balance);
   EXPECT_DOUBLE_EQ(lb.numerics.load_balance_threshold, 1.25);
+  // The halo's transport: one of two words (tests/decks/bad/halo_unknown.toml end to end).
+  EXPECT_NE(message_of(with("[output]", "[numerics]\nhalo = \"shm\"\n[output]"))
+                .find("[numerics] halo: = \"shm\" is not allowed: the halo's transport must be "
+                      "one of \"messages\", \"shared_memory\""),
+            std::string::npos);
+  EXPECT_NE(message_of(with("[output]", "[numerics]\nhalo = true\n[output]"))
+                .find("[numerics] halo: = true is a boolean, expected a string"),
+            std::string::npos);
+  EXPECT_EQ(parse_deck(with("[output]", "[numerics]\nhalo = \"shared_memory\"\n[output]"), "t.toml")
+                .numerics.halo,
+            "shared_memory");
 }
 
 TEST(Deck, CohesionAndRollingResistanceKeys) {
@@ -358,6 +370,7 @@ namespace {
 const std::vector<std::string> kBadDecks = {"divalent_frictionless",
                                             "ed_gas_missing",
                                             "expand_shrinks",
+                                            "halo_unknown",
                                             "lattice_count",
                                             "ls_above_jamming",
                                             "missing_key",

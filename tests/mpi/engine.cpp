@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -102,7 +104,7 @@ cells = [5, 5, 5]
 )";
 
 struct Snapshot {
-  std::map<GlobalId, std::array<double, 9>> grains;                        // force, velocity, omega
+  std::map<GlobalId, std::array<double, 12>> grains; // force, velocity, omega, scaled position
   std::map<std::pair<GlobalId, GlobalId>, std::array<double, 4>> contacts; // N, T
 };
 
@@ -117,6 +119,8 @@ Snapshot gather(MPI_Comm comm, const System<3>& sys) {
       g.push_back(p.velocity[i][a]);
     for (int a = 0; a < 3; ++a)
       g.push_back(p.angular_velocity[i][a]);
+    for (int a = 0; a < 3; ++a)
+      g.push_back(p.position[i][a]);
   }
   for (std::size_t k = 0; k < sys.contacts.size(); ++k) {
     const auto& s = sys.contacts.state(k);
@@ -141,9 +145,9 @@ Snapshot gather(MPI_Comm comm, const System<3>& sys) {
   };
   Snapshot s;
   auto G = all(g), C = all(c);
-  for (std::size_t k = 0; k < G.size(); k += 10) {
-    std::array<double, 9> v;
-    std::copy(G.begin() + k + 1, G.begin() + k + 10, v.begin());
+  for (std::size_t k = 0; k < G.size(); k += 13) {
+    std::array<double, 12> v;
+    std::copy(G.begin() + k + 1, G.begin() + k + 13, v.begin());
     s.grains[GlobalId(G[k])] = v;
   }
   for (std::size_t k = 0; k < C.size(); k += 6) {
@@ -156,11 +160,13 @@ Snapshot gather(MPI_Comm comm, const System<3>& sys) {
 
 /// How run_dense runs the dense sample. half: only the grains of the lower half in x are kept (a
 /// slab with free faces), so that on 2 to 4 ranks some ranks own no grain at all.
-/// load_balance: the engine's load_balance_threshold (0: the static grid).
+/// load_balance: the engine's load_balance_threshold (0: the static grid). halo: the halo's
+/// transport.
 struct DenseOptions {
   int steps = 1000;
   bool half = false;
   double load_balance = 0;
+  HaloTransport halo = HaloTransport::messages;
 };
 
 struct DenseOutcome {
@@ -170,6 +176,8 @@ struct DenseOutcome {
   std::int64_t min_owned_before = -1;               ///< the fewest grains a rank started with
   double imbalance_before = 0, imbalance_after = 0; ///< grain_imbalance
   std::int64_t rebalances = 0;                      ///< rebuilds that moved the cut planes
+  std::int64_t rebuilds = 0;                        ///< Verlet list (and ghost) rebuilds
+  bool shared_memory_halo = false; ///< the halo went through a shared-memory window
 };
 
 /// Runs the dense sample on `comm` and returns the gathered state and the balance measures.
@@ -207,6 +215,7 @@ DenseOutcome run_dense(MPI_Comm comm, const DenseOptions& o) {
   s.skin = 0.1e-3;
   s.stress_control = false;
   s.load_balance_threshold = o.load_balance;
+  s.halo = o.halo;
   MdEngine<3> engine(ctx, make_contact_law<3>(ctx.contact_law), s);
   out.momentum_before = momentum(p);
   MPI_Allreduce(MPI_IN_PLACE, out.momentum_before.data(), 3, MPI_DOUBLE, MPI_SUM, comm);
@@ -220,6 +229,8 @@ DenseOutcome run_dense(MPI_Comm comm, const DenseOptions& o) {
   out.momentum_scale = global_sum(comm, sc);
   out.imbalance_after = grain_imbalance(comm, p.n_owned());
   out.rebalances = engine.rebalances();
+  out.rebuilds = engine.rebuilds();
+  out.shared_memory_halo = engine.halo().through_shared_memory();
   out.state = gather(comm, ctx.system);
   return out;
 }
@@ -321,6 +332,55 @@ TEST(Engine, OneRankAndAllRanksAgreeWithLoadBalancing) {
   } else {
     EXPECT_LT(o.imbalance_after, 1.1);
   }
+}
+
+/// Runs the dense sample as `o` says through messages and through the shared-memory halo and
+/// expects the same positions, velocities, spins, forces and contact forces bit for bit.
+void expect_shared_memory_halo_equals_messages(DenseOptions o) {
+  o.halo = HaloTransport::messages;
+  const DenseOutcome m = run_dense(MPI_COMM_WORLD, o);
+  o.halo = HaloTransport::shared_memory;
+  const DenseOutcome s = run_dense(MPI_COMM_WORLD, o);
+  EXPECT_FALSE(m.shared_memory_halo);
+  EXPECT_EQ(s.shared_memory_halo, comm_size(MPI_COMM_WORLD) > 1);
+  EXPECT_EQ(s.rebuilds, m.rebuilds);
+  const std::size_t n = o.half ? 250u : 500u;
+  ASSERT_EQ(m.state.grains.size(), n);
+  ASSERT_EQ(s.state.grains.size(), n);
+  auto same = [](double x, double y) {
+    return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+  };
+  std::size_t differ = 0;
+  for (const auto& [id, v] : m.state.grains) {
+    const auto& w = s.state.grains.at(id);
+    for (std::size_t k = 0; k < v.size(); ++k)
+      if (!same(v[k], w[k]) && differ++ == 0)
+        ADD_FAILURE() << "grain " << id << " value " << k << ": " << v[k] << " and " << w[k];
+  }
+  ASSERT_EQ(m.state.contacts.size(), s.state.contacts.size());
+  for (const auto& [key, v] : m.state.contacts) {
+    ASSERT_TRUE(s.state.contacts.count(key)) << key.first << "-" << key.second;
+    const auto& w = s.state.contacts.at(key);
+    for (std::size_t k = 0; k < v.size(); ++k)
+      if (!same(v[k], w[k]) && differ++ == 0)
+        ADD_FAILURE() << "contact " << key.first << "-" << key.second << " value " << k << ": "
+                      << v[k] << " and " << w[k];
+  }
+  EXPECT_EQ(differ, 0u) << "values that differ";
+  if (o.half) {
+    EXPECT_GT(s.rebuilds, 2) << "the slab case is there for its rebuilds of the ghost lists";
+  }
+}
+
+// [numerics] halo = "shared_memory" moves the same doubles as "messages" into the same places
+// (comm/halo.h): 300 steps of the dense sample end with the same positions, velocities, spins,
+// forces and contact forces bit for bit; so do 300 steps of its lower half, a slab whose grains
+// spread through its free faces (several rebuilds of the ghost lists, checked; grains migrate;
+// on 2 ranks one rank is empty at first). On one rank there is no halo traffic (both runs are the
+// same run); on more, all on one node, the window carries it.
+TEST(Engine, SharedMemoryHaloAndMessagesAgreeBitForBit) {
+  expect_shared_memory_halo_equals_messages({.steps = 300});
+  expect_shared_memory_halo_equals_messages({.steps = 300, .half = true});
 }
 
 TEST(Engine, GasSmallCompressesToEquilibrium) {

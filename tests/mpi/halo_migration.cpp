@@ -1,17 +1,22 @@
-// Ghost exchange and migration against brute force, on whatever rank count ctest gives.
+// Ghost exchange and migration against brute force, and the shared-memory halo against the
+// message one bit for bit, on whatever rank count ctest gives.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <random>
 #include <set>
+#include <sstream>
 #include <tuple>
 
 #include "granpack/comm/decomposition.h"
 #include "granpack/comm/halo.h"
 #include "granpack/comm/migration.h"
 #include "granpack/comm/reduce.h"
+#include "granpack/comm/shared_window.h"
 #include "granpack/core/cut_planes.h"
 #include "granpack/core/error.h"
 
@@ -153,6 +158,178 @@ TEST(Halo, UnevenSubBoxesStillExact2D) {
 }
 TEST(Halo, UnevenSubBoxesStillExact3D) {
   check_halo<3>(0.08, true);
+}
+
+namespace {
+
+/// Differences between two stores, bit for bit (-0.0 differs from 0.0; a NaN from itself
+/// only if its bits do): "" if none, else how many and the first.
+template <int dim>
+std::string bit_differences(const ParticleStore<dim>& a, const ParticleStore<dim>& b) {
+  if (a.size() != b.size() || a.n_owned() != b.n_owned())
+    return "sizes differ: " + std::to_string(a.size()) + " and " + std::to_string(b.size());
+  std::size_t count = 0;
+  std::ostringstream first;
+  auto compare = [&](std::size_t i, const char* what, int k, double x, double y) {
+    if (std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y))
+      return;
+    if (count++ == 0)
+      first << what << "[" << k << "] of particle " << i << " (id " << a.id[i] << "): " << x
+            << " and " << y;
+  };
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    compare(i, "id", 0, double(a.id[i]), double(b.id[i]));
+    for (int k = 0; k < dim; ++k) {
+      compare(i, "position", k, a.position[i][k], b.position[i][k]);
+      compare(i, "velocity", k, a.velocity[i][k], b.velocity[i][k]);
+      compare(i, "force", k, a.force[i][k], b.force[i][k]);
+    }
+    for (int k = 0; k < rot_dim<dim>; ++k) {
+      compare(i, "angular velocity", k, a.angular_velocity[i][k], b.angular_velocity[i][k]);
+      compare(i, "torque", k, a.torque[i][k], b.torque[i][k]);
+    }
+  }
+  return count == 0 ? std::string() : std::to_string(count) + " differ, first " + first.str();
+}
+
+/// A value of grain `id` in exchange `round`, component k: new at every round, the same on any
+/// rank count, of either sign and of varied magnitude (sums of them round differently if their
+/// order changes).
+double value_of(GlobalId id, int round, int k) {
+  return std::sin(0.37 * double(id) + 1.1 * round + 0.13 * k) * std::exp(0.5 * std::cos(k + id));
+}
+
+/// The shared-memory halo (HaloTransport::shared_memory) against the message halo on the same
+/// grains and the same grid `dims`: after every borders(), forward() and reverse() of several
+/// exchanges (both parities of the double buffer, several times), every position, velocity,
+/// angular velocity, force and torque of every owned grain and ghost is the same bit for bit.
+/// The ghost layer first widens (the ghosts outgrow the window's headroom: it is reallocated)
+/// and then narrows (it fits: no reallocation). On one rank both are the message path's
+/// in-place copies; on more, all on one node, the window carries every non-self swap.
+template <int dim>
+void expect_shared_memory_halo_equals_messages(const std::array<int, dim>& dims) {
+  const auto all = random_grains<dim>(dim == 3 ? 3000 : 1500, 17);
+  Decomposition<dim> d(MPI_COMM_WORLD, dims);
+  ParticleStore<dim> pm, ps; // through messages, through shared memory
+  for (const auto& q : all)
+    if (d.owns(q.position)) {
+      pm.add_owned(q);
+      ps.add_owned(q);
+    }
+  Halo<dim> hm(HaloTransport::messages), hs(HaloTransport::shared_memory);
+  const bool shared = d.size() > 1 && ranks_share_one_node(MPI_COMM_WORLD);
+  int round = 0, allocations = 0;
+  for (const double width : {0.05, 0.2, 0.1}) {
+    const Vec<dim> w = Vec<dim>::Constant(width);
+    hm.borders(pm, d, w);
+    hs.borders(ps, d, w);
+    EXPECT_EQ(hs.through_shared_memory(), shared);
+    EXPECT_FALSE(hm.through_shared_memory());
+    if (shared) {
+      if (width == 0.05)
+        EXPECT_EQ(hs.window_allocations(), 1) << "the first borders() allocates";
+      else if (width == 0.2)
+        EXPECT_EQ(hs.window_allocations(), allocations + 1) << "4x the ghosts: reallocated";
+      else
+        EXPECT_EQ(hs.window_allocations(), allocations) << "fewer ghosts: the room suffices";
+    }
+    allocations = hs.window_allocations();
+    EXPECT_EQ(bit_differences(pm, ps), "") << "after borders(), width " << width;
+    for (int k = 0; k < 5; ++k, ++round) {
+      for (ParticleStore<dim>* p : {&pm, &ps}) {
+        for (std::size_t i = 0; i < p->n_owned(); ++i) {
+          const GlobalId id = p->id[i];
+          for (int a = 0; a < dim; ++a) {
+            p->position[i][a] = all[(id - 1000) / 3].position[a] + 1e-4 * value_of(id, round, a);
+            p->velocity[i][a] = value_of(id, round, dim + a);
+          }
+          for (int a = 0; a < rot_dim<dim>; ++a)
+            p->angular_velocity[i][a] = value_of(id, round, 2 * dim + a);
+        }
+      }
+      hm.forward(pm, d);
+      hs.forward(ps, d);
+      EXPECT_EQ(bit_differences(pm, ps), "") << "forward, width " << width << ", round " << round;
+      // Forces on owners and ghosts alike (the owners' own add to what the ghosts bring),
+      // a ghost's by its index too: the images of one grain carry different forces.
+      for (ParticleStore<dim>* p : {&pm, &ps}) {
+        for (std::size_t i = 0; i < p->size(); ++i) {
+          for (int a = 0; a < dim; ++a)
+            p->force[i][a] = value_of(p->id[i] + 7 * i, round, 3 * dim + a);
+          for (int a = 0; a < rot_dim<dim>; ++a)
+            p->torque[i][a] = value_of(p->id[i] + 7 * i, round, 4 * dim + a);
+        }
+      }
+      hm.reverse(pm, d);
+      hs.reverse(ps, d);
+      EXPECT_EQ(bit_differences(pm, ps), "") << "reverse, width " << width << ", round " << round;
+    }
+  }
+}
+
+/// The grid that puts every rank along the last axis (1 x ... x size): the axes before it are
+/// one rank wide, so the last axis sends periodic images (made in place) of the grains.
+template <int dim> std::array<int, dim> all_along_the_last_axis() {
+  std::array<int, dim> dims;
+  dims.fill(1);
+  MPI_Comm_size(MPI_COMM_WORLD, &dims[dim - 1]);
+  return dims;
+}
+
+/// The grid the engine would choose for a cubic cell (2 ranks: 2x1x1, 3: 3x1x1, 4: 2x2x1).
+template <int dim> std::array<int, dim> default_grid() {
+  Decomposition<dim> d(MPI_COMM_WORLD, Vec<dim>::Ones());
+  return d.dims();
+}
+
+} // namespace
+
+// On 2 ranks (2x1x1, and 1x1x2 below) both neighbours along the cut axis are the same rank,
+// the case where one rank reads both slots of the other; on 3 ranks (3x1x1) they differ; on 4
+// (2x2x1) two axes use the window, the second sending the first's ghosts on. Each grid crosses
+// the periodic boundary (shifted images) along every axis.
+TEST(HaloSharedMemory, EqualsMessagesBitForBit2D) {
+  expect_shared_memory_halo_equals_messages<2>(default_grid<2>());
+}
+TEST(HaloSharedMemory, EqualsMessagesBitForBit3D) {
+  expect_shared_memory_halo_equals_messages<3>(default_grid<3>());
+}
+TEST(HaloSharedMemory, EqualsMessagesBitForBitWithImagesSentOn2D) {
+  expect_shared_memory_halo_equals_messages<2>(all_along_the_last_axis<2>());
+}
+TEST(HaloSharedMemory, EqualsMessagesBitForBitWithImagesSentOn3D) {
+  expect_shared_memory_halo_equals_messages<3>(all_along_the_last_axis<3>());
+}
+
+// An error on every rank while a shared-memory halo is alive (a collective error, as the
+// engine's): unwinding leaves its window to MPI_Finalize instead of a collective free (which
+// would hang if the error were one rank's alone), and the ranks carry on: a new halo works.
+TEST(HaloSharedMemory, ACollectiveErrorWhileItIsAliveLetsTheRanksCarryOn) {
+  const auto all = random_grains<3>(500, 5);
+  Decomposition<3> d(MPI_COMM_WORLD, Vec<3>::Ones());
+  auto owned = [&] {
+    ParticleStore<3> p;
+    for (const auto& q : all)
+      if (d.owns(q.position))
+        p.add_owned(q);
+    return p;
+  };
+  ParticleStore<3> p = owned();
+  try {
+    Halo<3> halo(HaloTransport::shared_memory);
+    halo.borders(p, d, Vec<3>::Constant(0.1));
+    halo.forward(p, d);
+    throw InputError("every rank fails here");
+  } catch (const InputError&) {
+  }
+  EXPECT_EQ(global_sum(MPI_COMM_WORLD, std::int64_t(1)), d.size());
+  ParticleStore<3> pm = owned(), ps = owned();
+  Halo<3> hm(HaloTransport::messages), hs(HaloTransport::shared_memory);
+  hm.borders(pm, d, Vec<3>::Constant(0.1));
+  hs.borders(ps, d, Vec<3>::Constant(0.1));
+  hm.forward(pm, d);
+  hs.forward(ps, d);
+  EXPECT_EQ(bit_differences(pm, ps), "");
 }
 
 TEST(Decomposition, UnevenCutsGiveEveryPointOneOwnerInsideItsBox) {

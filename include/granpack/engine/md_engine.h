@@ -35,6 +35,10 @@ template <int dim> struct MdSettings {
   /// quantiles of the grains when the largest rank's grain count exceeds this multiple of the
   /// mean (comm/rebalance.h). 0: the static grid.
   double load_balance_threshold = 0;
+  /// How the halo's forward and reverse exchanges reach other ranks ([numerics] halo):
+  /// messages, or a shared-memory window when every rank is on one node (comm/halo.h). The
+  /// results are the same bit for bit; only the time differs.
+  HaloTransport halo = HaloTransport::messages;
   /// When set (fix_rattlers), only the grains whose ids are in this sorted list move; the
   /// others are held at rest. Mobile grains also feel body_force(id) if it is set.
   const std::vector<GlobalId>* mobile = nullptr;
@@ -44,14 +48,17 @@ template <int dim> struct MdSettings {
   std::function<bool(GlobalId, GlobalId)> pair_allowed;
 };
 
-/// The settings the deck's [numerics] fix for every MD stage: the Verlet skin and the overlap
-/// limit of the blow-up check (the stage sets the time step and the cell control).
+/// The settings the deck's [numerics] fix for every MD stage: the Verlet skin, the overlap
+/// limit of the blow-up check, load balancing and the halo's transport (the stage sets the
+/// time step and the cell control).
 template <int dim> MdSettings<dim> deck_md_settings(const RunContext<dim>& ctx) {
   MdSettings<dim> s;
   s.skin = ctx.deck->numerics.skin * ctx.deck->sample.diameter;
   s.max_overlap = ctx.deck->numerics.max_overlap;
   if (ctx.deck->numerics.load_balance)
     s.load_balance_threshold = ctx.deck->numerics.load_balance_threshold;
+  s.halo = ctx.deck->numerics.halo == "shared_memory" ? HaloTransport::shared_memory
+                                                      : HaloTransport::messages;
   return s;
 }
 
