@@ -95,6 +95,20 @@ int main(int argc, char** argv) {
   std::string h5_out;
   analyze_cmd->add_option("--h5", h5_out,
                           "also write the results as HDF5 (curves, histograms as datasets)");
+  double analyze_threshold = granpack::AnalyzeOptions{}.threshold;
+  analyze_cmd
+      ->add_option("--threshold", analyze_threshold,
+                   "force-carrying threshold / (a^2 P), a^(dim-1) P in 2D (default 1e-4, [AR]'s "
+                   "tolerance); raising it shows how much of x0, z*, x2 sits in weak contacts")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            // CLI11's PositiveNumber & Range print the type's limits; say what is allowed.
+            double t = 0;
+            if (!CLI::detail::lexical_cast(text, t) || !(t > 0 && t <= 1))
+              return "a fraction in (0, 1] expected, got " + text;
+            return std::string();
+          },
+          "in (0, 1]"));
   granpack::PairOptions pair_opts;
   analyze_cmd->add_option("--gr-max", pair_opts.r_max, "range of g(r) in diameters (default 3)")
       ->check(CLI::Range(1.5, 100.0));
@@ -177,7 +191,7 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--json", bench_json, "also write the results as JSON to this file");
   bench_cmd
       ->add_option("--halo", bench.halo,
-                   "the halo's transport, as [numerics] halo (default messages)")
+                   "the halo's transport, as [numerics] halo (default shared_memory)")
       ->check(CLI::IsMember({"messages", "shared_memory"}));
   std::vector<std::string> check_paths;
   auto* check_cmd =
@@ -272,6 +286,7 @@ int main(int argc, char** argv) {
     } else if (*analyze_cmd) {
       granpack::AnalyzeOptions a;
       a.file = file;
+      a.threshold = analyze_threshold;
       a.pairs = pair_opts;
       a.density = density_opts;
       a.density.enabled = !no_density;

@@ -15,9 +15,10 @@
 # the ratios, e.g. E2E="A experiments/A_dt0.05 B"; each prints its wall time and the state's
 # Phi and z*: issue 32's time-to-state targets), ED (default 1: the event-driven melt's
 # collisions per second, jobs/bench/ed_bench.cpp, if the build has granpack_ed_bench), HALO
-# (default messages: the halo's transport of the timed granpack runs, `granpack bench --halo`,
-# and of the E2E decks, run from a copy with [numerics] halo set; HALO=shared_memory, against
-# a run of the default on the same machine, times docs/performance.md "The shared-memory halo").
+# (default shared_memory, granpack's default: the halo's transport of the timed granpack runs,
+# `granpack bench --halo`, and of the E2E decks, run from a copy with [numerics] halo set;
+# HALO=messages, against a run of the default on the same machine, times docs/performance.md
+# "The shared-memory halo").
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -29,7 +30,7 @@ steps=${STEPS:-1000}
 sizes=${SIZES:-"1x1x1 2x2x2"}
 ranks=${RANKS:-"1 2"}
 repeat=${REPEAT:-2}
-halo=${HALO:-messages}
+halo=${HALO:-shared_memory}
 py=/usr/bin/python3
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 # A rank waiting in MPI yields its core instead of spinning: on a machine shared with other
@@ -81,7 +82,7 @@ for deck in ${E2E:-}; do
   d=$out/e2e/${deck//\//_}
   rm -rf "$d" && mkdir -p "$out/e2e"
   deck_file=$root/jobs/decks/$deck.toml
-  if [ "$halo" != messages ]; then
+  if [ "$halo" != shared_memory ]; then
     # A copy of the deck with [numerics] halo set: under its [numerics] header, or in a new
     # table at the end (read stages' paths are relative to the working directory: unchanged).
     gen=$d.toml

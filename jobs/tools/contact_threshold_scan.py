@@ -1,58 +1,59 @@
 #!/usr/bin/python3
-"""How much of x0, z* and x2 sits in the weakest contacts: the backbone counts of 3D packings
-recomputed with the force-carrying threshold raised from granpack's 1e-4 a^2 P.
+"""How much of x0, z* and x2 sits in the weakest contacts: the backbone counts of packings
+recounted by `granpack analyze --threshold T` with the force-carrying threshold raised from 1e-4.
 
 Usage:
-  contact_threshold_scan.py [--thresholds T1,T2,...] FILE.h5... | --group LABEL FILE.h5... [--group ...]
+  contact_threshold_scan.py [--thresholds T1,T2,...] [--granpack EXE] FILE.h5...
+  contact_threshold_scan.py ... --group LABEL FILE.h5... [--group LABEL FILE.h5...]
 e.g.
   contact_threshold_scan.py --group C out/ens/C/sample_*/C.h5 --group Z out/ens/Z/sample_*/Z.h5
 
 A contact carries force when its elastic normal force N exceeds T a^2 P (a the diameter, P the
-file's measured pressure; granpack analyze uses T = 1e-4, [AR] sec. III B's tolerance). Rattlers
-follow [AR] sec. III B as in `granpack analyze` (docs/analysis.md): a grain with fewer than
-4 (frictionless) or 2 (frictional) force-carrying contacts with non-rattlers is a rattler,
-iterated to a fixed point. For each T: x0 (rattlers / n), z* (2 backbone contacts / non-rattlers)
-and x2 (non-rattlers with 2 backbone contacts / n), mean +- sample sd over the files of a label.
-At T = 1e-4 the numbers are granpack analyze's (tests/cli/python_reader.sh checks it).
+file's measured pressure; T = 1e-4 is [AR] sec. III B's tolerance and analyze's default). The
+counting is analyze's own (docs/analysis.md: the iterated rattler rule of [AR] sec. III B); this
+tool only runs it once per file and threshold and tabulates, for each T, x0 (rattlers / n), z*
+(2 backbone contacts / non-rattlers) and x2 (non-rattlers with 2 backbone contacts / n) as
+mean +- sample sd over the files of a label.
 """
 import argparse
+import os
+import subprocess
+import tempfile
 
 import numpy as np
 
 import granpack_io as gio
 
 DEFAULT_THRESHOLDS = (1e-4, 1e-3, 1e-2, 2e-2, 3e-2)
+PROG = "contact_threshold_scan.py"
 
 
-def backbone_counts(packing, threshold):
-    """(x0, z*, x2) of a 3D packing with the force-carrying threshold `threshold` a^2 P."""
-    if packing.dimension != 3:
-        raise gio.GranpackFileError(f"{packing.path}: a 3D packing is needed (dimension "
-                                    f"{packing.dimension})")
-    n = packing.n
-    c = packing.contacts
-    force = np.asarray(c["normal_force"], dtype=float)
-    scale = float(np.mean(packing.diameter)) ** 2 * float(packing.pressure)
-    carrying = force > threshold * scale
-    i, j = packing.i[carrying], packing.j[carrying]
-    min_contacts = 4 if packing.law()["friction"] == 0 else 2
-    rattler = np.zeros(n, dtype=bool)
-    while True:
-        live = ~(rattler[i] | rattler[j])
-        count = np.bincount(i[live], minlength=n) + np.bincount(j[live], minlength=n)
-        new = ~rattler & (count < min_contacts)
-        if not new.any():
-            break
-        rattler |= new
-    backbone = n - int(rattler.sum())
-    z_star = 2.0 * int(live.sum()) / backbone if backbone else float("nan")
-    return rattler.mean(), z_star, np.mean(~rattler & (count == 2))
+def default_granpack():
+    """$GRANPACK_EXE, else the build directory of this checkout."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    return os.environ.get("GRANPACK_EXE") or os.path.join(here, "..", "..", "build", "granpack")
+
+
+def backbone_counts(path, threshold, granpack):
+    """(x0, z*, x2) of the packing in `path` as `granpack analyze --threshold` counts them."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "analysis.json")
+        run = subprocess.run([granpack, "analyze", path, "--threshold", repr(threshold),
+                              "--json", out], capture_output=True, text=True)
+        if run.returncode != 0:
+            raise gio.GranpackFileError(f"{granpack} analyze {path} --threshold {threshold} "
+                                        f"failed (exit {run.returncode}): {run.stderr.strip()}")
+        a = gio.read_analysis(out, arrays=False)
+    return a["x0"], a["z_star"], a["x2"]
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--thresholds", default=",".join(f"{t:g}" for t in DEFAULT_THRESHOLDS),
-                    metavar="T1,T2,...", help="in units of a^2 P (default: %(default)s)")
+                    metavar="T1,T2,...", help="in units of a^2 P, each in (0, 1] "
+                    "(default: %(default)s)")
+    ap.add_argument("--granpack", default=default_granpack(), metavar="EXE",
+                    help="the granpack executable (default: $GRANPACK_EXE, else build/granpack)")
     ap.add_argument("--group", nargs="+", action="append", default=[], metavar="LABEL FILE.h5",
                     help="a label and its configuration files (repeatable)")
     ap.add_argument("files", nargs="*", metavar="FILE.h5", help="files of one unlabelled group")
@@ -67,14 +68,16 @@ def main():
         thresholds = [float(t) for t in args.thresholds.split(",")]
     except ValueError:
         ap.error(f"--thresholds: comma-separated numbers expected, got {args.thresholds!r}")
-    if any(not t > 0 for t in thresholds):
-        ap.error(f"--thresholds must all be > 0, got {args.thresholds!r}")
+    if any(not 0 < t <= 1 for t in thresholds):
+        ap.error(f"--thresholds must all be in (0, 1], got {args.thresholds!r}")
+    if not os.access(args.granpack, os.X_OK):
+        ap.error(f"--granpack: no executable at {args.granpack} (build first, or pass --granpack)")
     for label, files in groups:
         try:
-            rows = np.array([[backbone_counts(p, t) for t in thresholds]
-                             for p in map(gio.read_packing, files)])
+            rows = np.array([[backbone_counts(f, t, args.granpack) for t in thresholds]
+                             for f in files])
         except gio.GranpackFileError as err:
-            gio.fail("contact_threshold_scan.py", str(err))
+            gio.fail(PROG, str(err))
         print(f"{label}: K = {len(files)}")
         for t, col in zip(thresholds, rows.transpose(1, 0, 2)):
             mean = col.mean(axis=0)

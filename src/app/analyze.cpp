@@ -20,6 +20,7 @@ nlohmann::json analyze(MPI_Comm world, const AnalyzeOptions& opt, const FileMeta
   const double reach = std::max(opt.pairs.r_max, 1.5); // z(h) to 0.5 a, bonds to 1.4 a
   const PackingView<dim> v = load_packing<dim>(world, opt.file, meta, opt.threshold, reach);
   nlohmann::json j = packing_summary(v, opt.file);
+  j["carrying_threshold"] = opt.threshold; // --threshold: force_threshold in units of a^2 P
   j.update(analyze_network(v));
   j.update(analyze_pairs(v, opt.pairs));
   j["motifs"] = analyze_motifs(v);

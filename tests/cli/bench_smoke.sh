@@ -2,8 +2,8 @@
 # Smoke test of `granpack bench` (docs/performance.md) on the committed n = 4000 A packing,
 # 20 steps (a few seconds): the report and JSON are written, the static pressure is the
 # packing's 10 kPa and is the same on 1 and 2 ranks, the static-force and LAMMPS data files
-# hold every grain, a bad --replicate is refused with exit code 2, and --halo shared_memory runs
-# the same 20 steps through a shared-memory window. The full benchmark
+# hold every grain, a bad --replicate is refused with exit code 2, and the default 2-rank run
+# (through the shared-memory window) ends as the same 20 steps with --halo messages. The full benchmark
 # (jobs/bench/run_bench.sh, with LAMMPS) is not a CI test.
 set -u
 : "${GRANPACK_EXE:?}" "${GRANPACK_SOURCE_DIR:?}"
@@ -29,12 +29,13 @@ assert a["static_contacts"] == b["static_contacts"], (a, b)
 assert abs(a["dt"] - b["dt"]) < 1e-12 * a["dt"] and a["particle_steps_per_s_per_rank"] > 0, (a["dt"], b["dt"])
 PY
 check_refused "--replicate 0 refused" 2 "replicate" "$scratch/bad.txt" granpack_on 1 bench "$packing" --replicate 0 1 1
-# --halo shared_memory (jobs/bench/run_bench.sh HALO=...): the 2 ranks share this node, so the
-# window carries the halo, and the 20 steps end as through messages (pressure and contacts).
-check_exit "bench --halo shared_memory on 2 ranks" 0 "$scratch/shm.txt" granpack_on 2 bench "$packing" \
-  --steps 20 --halo shared_memory --json "$scratch/shm.json"
-check_python "the shared-memory halo gives the message run's end state" "$scratch/shm_py.txt" \
-  "$scratch/np2.json" "$scratch/shm.json" <<'PY'
+# --halo messages (jobs/bench/run_bench.sh HALO=...): the default 2-rank run above went through
+# the shared-memory window (the 2 ranks share this node); through messages the 20 steps end the
+# same (pressure and contacts).
+check_exit "bench --halo messages on 2 ranks" 0 "$scratch/msg.txt" granpack_on 2 bench "$packing" \
+  --steps 20 --halo messages --json "$scratch/msg.json"
+check_python "the shared-memory halo (default) gives the message run's end state" "$scratch/shm_py.txt" \
+  "$scratch/msg.json" "$scratch/np2.json" <<'PY'
 import json, sys
 m, s = (json.load(open(f)) for f in sys.argv[1:3])
 assert m["halo"] == "messages" and s["halo"] == "shared_memory", (m["halo"], s["halo"])

@@ -36,12 +36,14 @@ check_exit "stiffness --modes 2" 0 "$scratch/st.txt" granpack_on 2 stiffness "$o
   --json "$out/stiffness.json" --modes 2 --modes-file "$out/modes.h5"
 
 /usr/bin/python3 - "$out" "$GRANPACK_SOURCE_DIR" > "$scratch/py.txt" 2>&1 <<'PY'
+import os
 import sys
 import numpy as np
 import granpack_io as gio
 from checks import check
 
 out, src = sys.argv[1], sys.argv[2]
+exe = os.environ["GRANPACK_EXE"]
 p = gio.read_packing(f"{out}/final.h5")
 rep = gio.read_report(f"{out}/report.json")
 last = rep.stages[-1]
@@ -184,13 +186,21 @@ check("analysis JSON: curves as arrays", isinstance(aj["g_r"]["g_I"], np.ndarray
 check("analysis --h5 and --json agree (g(r), P(f), phi)",
       np.allclose(aj["g_r"]["g_I"], ah["g_r"]["g_I"]) and np.allclose(aj["P_f"]["pdf"], ah["P_f"]["pdf"])
       and abs(aj["phi"] - ah["phi"]) < 1e-15 and abs(aj["phi"] - p.phi) < 1e-9)
+# analyze --threshold T recounts the backbone without contacts under T a^2 P: against
+# granpack_io's own rattler rule at that threshold, through contact_threshold_scan.py.
 import contact_threshold_scan as cts
-x0, z_star, x2 = cts.backbone_counts(p, 1e-4)
-check(f"contact_threshold_scan at 1e-4 a^2 P = analyze (x0 {x0}, z* {z_star}, x2 {x2})",
-      abs(x0 - aj["x0"]) < 1e-12 and abs(z_star - aj["z_star"]) < 1e-9 and abs(x2 - aj["x2"]) < 1e-12)
-x0_hi, z_hi, _ = cts.backbone_counts(p, 0.3)
-check(f"contact_threshold_scan: a higher threshold drops contacts (z* {z_star} -> {z_hi})",
-      z_hi < z_star and x0_hi >= x0)
+x0, z_star, x2 = cts.backbone_counts(f"{out}/final.h5", 1e-4, exe)
+check(f"contact_threshold_scan at 1e-4 a^2 P = analyze's default (x0 {x0}, z* {z_star}, x2 {x2})",
+      x0 == aj["x0"] and z_star == aj["z_star"] and x2 == aj["x2"])
+x0_hi, z_hi, x2_hi = cts.backbone_counts(f"{out}/final.h5", 0.3, exe)
+r_hi = p.rattlers(threshold=0.3)
+cut = 0.3 * p.diameter ** 2 * (p._param("pressure_target") or abs(p.pressure))
+live = (p.contacts["normal_force"] > cut) & ~p.distant & ~r_hi[p.i] & ~r_hi[p.j]
+deg = np.bincount(p.i[live], minlength=p.n) + np.bincount(p.j[live], minlength=p.n)
+check(f"analyze --threshold 0.3 = granpack_io's rattler rule at 0.3 (x0 {x0_hi}, z* {z_hi}, "
+      f"x2 {x2_hi}) and drops contacts (z* {z_star} -> {z_hi})",
+      abs(x0_hi - r_hi.mean()) < 1e-12 and abs(z_hi - 2 * live.sum() / (~r_hi).sum()) < 1e-9
+      and abs(x2_hi - np.mean(~r_hi & (deg == 2))) < 1e-12 and z_hi < z_star and x0_hi > x0)
 check("read() dispatches on content", isinstance(gio.read(f"{out}/final.h5"), gio.Packing)
       and isinstance(gio.read(f"{out}/report.json"), gio.Report)
       and isinstance(gio.read(f"{out}/analysis.h5"), dict))

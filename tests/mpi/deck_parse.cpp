@@ -78,7 +78,7 @@ TEST(Deck, ParsesEveryKeyWithDefaults) {
   EXPECT_DOUBLE_EQ(d.numerics.time_step_fraction, 0.02);
   EXPECT_FALSE(d.numerics.load_balance);
   EXPECT_DOUBLE_EQ(d.numerics.load_balance_threshold, 1.1);
-  EXPECT_EQ(d.numerics.halo, "messages");
+  EXPECT_EQ(d.numerics.halo, "shared_memory");
   EXPECT_TRUE(d.output.quiet);
   ASSERT_EQ(d.stages.size(), 3u);
   const auto& c = std::get<CompressStage>(d.stages[0].params);

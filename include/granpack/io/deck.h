@@ -55,8 +55,9 @@ struct NumericsSpec {
   double load_balance_threshold = 1.1;
   /// How the halo's forward and reverse exchanges reach other ranks: "messages" (MPI messages)
   /// or "shared_memory" (an MPI-3 shared-memory window, when every rank is on one node;
-  /// messages otherwise). The same results bit for bit; only the time differs.
-  std::string halo = "messages";
+  /// messages otherwise). The same results bit for bit; only the time differs: the default
+  /// since the benchmark of 2026-12-07 (docs/performance.md, "The shared-memory halo").
+  std::string halo = "shared_memory";
   friend bool operator==(const NumericsSpec&, const NumericsSpec&) = default;
 };
 
