@@ -326,11 +326,19 @@ int run_deck(MPI_Comm world, const RunOptions& options) {
            ", n = " + std::to_string(deck.sample.n));
   if (!lock.warning().empty())
     log.warn(lock.warning());
-  // The shared-memory halo needs every rank on one node; otherwise the halo quietly uses
-  // messages (comm/halo.h). Said once here rather than by every MD engine of the run.
-  if (deck.numerics.halo == "shared_memory" && size > 1 && !ranks_share_one_node(world))
-    log.info("[numerics] halo = \"shared_memory\": the ranks are on several nodes, so the halo "
-             "uses messages");
+  // The shared-memory halo needs every rank on one node, and a window within the file size
+  // limit; otherwise the halo quietly uses messages (comm/shared_window.h). Said once here
+  // rather than by every MD engine of the run.
+  if (deck.numerics.halo == "shared_memory" && size > 1) {
+    if (!ranks_share_one_node(world))
+      log.info("[numerics] halo = \"shared_memory\": the ranks are on several nodes, so the "
+               "halo uses messages");
+    else if (const unsigned long long limit = file_size_limit(); limit != 0)
+      log.info("[numerics] halo = \"shared_memory\": a file size limit (ulimit -f) of " +
+               std::to_string(limit / 1024) +
+               " kB is set; where the shared-memory window's backing file would exceed it, the "
+               "halo uses messages");
+  }
 
   CheckpointPolicy policy;
   policy.file = out / "checkpoint.h5";

@@ -1,5 +1,8 @@
 #include "granpack/comm/shared_window.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <exception>
 
@@ -26,6 +29,13 @@ bool ranks_share_one_node(MPI_Comm comm) {
   MPI_Comm_free(&node);
   // Node communicators partition comm: if one rank's is all of comm, every rank's is.
   return node_size == size;
+}
+
+unsigned long long file_size_limit() {
+  rlimit r{};
+  if (getrlimit(RLIMIT_FSIZE, &r) != 0 || r.rlim_cur == RLIM_INFINITY)
+    return 0;
+  return static_cast<unsigned long long>(r.rlim_cur);
 }
 
 SharedWindow::SharedWindow(MPI_Comm comm) {
@@ -74,6 +84,8 @@ void SharedWindow::release() {
 
 bool SharedWindow::reserve(const std::vector<std::size_t>& need) {
   GRANPACK_CHECK(on_one_node_, "SharedWindow::reserve: the ranks do not share one node");
+  if (!usable_)
+    return false;
   std::vector<unsigned long long> most(need.begin(), need.end());
   MPI_Allreduce(MPI_IN_PLACE, most.data(), static_cast<int>(most.size()), MPI_UNSIGNED_LONG_LONG,
                 MPI_MAX, comm_);
@@ -96,6 +108,27 @@ bool SharedWindow::reserve(const std::vector<std::size_t>& need) {
     offset_[k] = total;
     total += room_[k];
   }
+  // Open MPI's osc/sm backs the window with one file: every rank's segment rounded up to a
+  // page, plus its synchronisation state (well under a page per rank) and a global header. If
+  // that file would pass some rank's file size limit (ulimit -f), MPI_Win_allocate_shared
+  // fails inside Open MPI and the job aborts; so the window is given up first, on every rank
+  // alike (the all-reduce), and the halo carries on through messages. A generous bound (two
+  // pages per rank and 1 MiB more) errs towards messages, never towards an abort.
+  int size = 0;
+  MPI_Comm_size(comm_, &size);
+  const auto page = static_cast<unsigned long long>(sysconf(_SC_PAGESIZE));
+  const unsigned long long segment = (total * sizeof(double) + page - 1) / page * page;
+  const unsigned long long file_bytes =
+      static_cast<unsigned long long>(size) * (segment + 2 * page) + (1ULL << 20);
+  const unsigned long long limit = file_size_limit();
+  int fits = limit == 0 || file_bytes <= limit ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &fits, 1, MPI_INT, MPI_MIN, comm_);
+  if (!fits) {
+    usable_ = false;
+    room_.clear();
+    offset_.clear();
+    return false;
+  }
   MPI_Info info;
   MPI_Info_create(&info);
   // Each rank's segment on its own pages (first touched by its writer: on a NUMA node, in the
@@ -105,8 +138,6 @@ bool SharedWindow::reserve(const std::vector<std::size_t>& need) {
   MPI_Win_allocate_shared(static_cast<MPI_Aint>(total * sizeof(double)),
                           static_cast<int>(sizeof(double)), info, comm_, &my_base, &win_);
   MPI_Info_free(&info);
-  int size = 0;
-  MPI_Comm_size(comm_, &size);
   base_.assign(static_cast<std::size_t>(size), nullptr);
   for (int r = 0; r < size; ++r) {
     MPI_Aint bytes = 0;

@@ -8,7 +8,9 @@
 #  - the same with a checkpoint every 50 steps: the first checkpoint write fails (it waits for
 #    the next neighbour-list rebuild, at most 1000 steps: the stage is cut at 1500 steps);
 #  - under `ulimit -f` (a file size limit: SIGXFSZ is ignored, write() fails with EFBIG), the
-#    checkpoint write and the final write fail.
+#    checkpoint write and the final write fail. On 2 ranks this also checks that the halo's
+#    shared-memory window (the default), whose backing file would pass the limit, is given up
+#    for messages instead of aborting the job inside Open MPI (comm/shared_window.h).
 # The tmpfs needs root (mount); without it those cases are skipped with a message, the
 # ulimit ones still run. Each run has a hard timeout (300 s) that only a hang reaches.
 set -u
@@ -80,6 +82,10 @@ for np in ${GRANPACK_TEST_RANKS:-1 2}; do
   limit=(limited $((size_kb / 2)))
   failing_run "ulimit -f during a checkpoint" checkpoint.h5 "$out" --checkpoint-every-steps 50
   failing_run "ulimit -f during the final write" final.h5 "$out" --checkpoint-every-steps 0
+  # On 2 ranks the halo's default shared-memory window would need a backing file beyond the
+  # limit, which would abort the job inside Open MPI: the halo uses messages and says so.
+  [ "$np" -gt 1 ] && check "$np rank(s), ulimit -f: the limit and the halo's fallback to messages are logged" \
+    'grep -q "file size limit (ulimit -f) of $((size_kb / 2)) kB" "$out/log.txt"' && :
   limit=()
 done
 checks_done "write failures"

@@ -2,6 +2,7 @@
 // message one bit for bit, on whatever rank count ctest gives.
 #include <gtest/gtest.h>
 #include <mpi.h>
+#include <sys/resource.h>
 
 #include <bit>
 #include <cmath>
@@ -299,6 +300,49 @@ TEST(HaloSharedMemory, EqualsMessagesBitForBitWithImagesSentOn2D) {
 }
 TEST(HaloSharedMemory, EqualsMessagesBitForBitWithImagesSentOn3D) {
   expect_shared_memory_halo_equals_messages<3>(all_along_the_last_axis<3>());
+}
+
+// A file size limit (ulimit -f) that the window's backing file would pass: Open MPI would fail
+// inside MPI_Win_allocate_shared and abort the job. On rank 0 alone (any rank's limit must
+// turn every rank to messages, or the ranks would disagree on the transport) the limit is set
+// to 4 kB: the halo allocates no window, on any rank, and carries the same values by messages.
+TEST(HaloSharedMemory, AFileSizeLimitBelowTheWindowFallsBackToMessagesOnEveryRank) {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  rlimit saved{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
+  if (rank == 0) {
+    rlimit small = saved;
+    small.rlim_cur = 4096;
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+    EXPECT_EQ(file_size_limit(), 4096u);
+  }
+  const auto all = random_grains<3>(3000, 17);
+  Decomposition<3> d(MPI_COMM_WORLD, default_grid<3>());
+  ParticleStore<3> pm, ps;
+  for (const auto& q : all)
+    if (d.owns(q.position)) {
+      pm.add_owned(q);
+      ps.add_owned(q);
+    }
+  Halo<3> hm(HaloTransport::messages), hs(HaloTransport::shared_memory);
+  for (const double width : {0.05, 0.2}) {
+    hm.borders(pm, d, Vec<3>::Constant(width));
+    hs.borders(ps, d, Vec<3>::Constant(width));
+    EXPECT_FALSE(hs.through_shared_memory()) << "width " << width;
+    EXPECT_EQ(hs.window_allocations(), 0);
+    for (ParticleStore<3>* p : {&pm, &ps})
+      for (std::size_t i = 0; i < p->size(); ++i)
+        for (int a = 0; a < 3; ++a)
+          p->force[i][a] = value_of(p->id[i] + 7 * i, 1, a);
+    hm.forward(pm, d);
+    hs.forward(ps, d);
+    hm.reverse(pm, d);
+    hs.reverse(ps, d);
+    EXPECT_EQ(bit_differences(pm, ps), "") << "width " << width;
+  }
+  if (rank == 0)
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &saved), 0);
 }
 
 // An error on every rank while a shared-memory halo is alive (a collective error, as the

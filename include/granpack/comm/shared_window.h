@@ -19,6 +19,11 @@ namespace granpack {
 /// (MPI_Comm_split_type(MPI_COMM_TYPE_SHARED) gives them all one communicator).
 bool ranks_share_one_node(MPI_Comm comm);
 
+/// The soft file size limit of this process (ulimit -f, RLIMIT_FSIZE) in bytes, or 0 when
+/// there is none. Open MPI backs a shared window with a file: one larger than the limit makes
+/// MPI_Win_allocate_shared fail and abort the job, so the window is not allocated then.
+unsigned long long file_size_limit();
+
 class SharedWindow {
 public:
   /// Collective on comm. Duplicates it: the window and its notifications use the duplicate,
@@ -42,7 +47,13 @@ public:
   /// headroom, so that a growing need does not reallocate at every call) only when some rank
   /// needs more room than the window has; otherwise it costs one small all-reduce and
   /// allocates nothing. Reallocation discards the contents. Returns true when it reallocated.
+  /// When the new window's backing file would exceed some rank's file size limit
+  /// (file_size_limit()), it allocates nothing, frees the old window and marks the window
+  /// unusable (usable() false, decided alike on every rank): the halo then uses messages.
   bool reserve(const std::vector<std::size_t>& need);
+  /// False once reserve() found that no window fits the file size limit; reserve() then does
+  /// nothing (and allocated() stays false) for the rest of this window's life.
+  bool usable() const { return usable_; }
   /// Whether reserve() has allocated the window.
   bool allocated() const { return win_ != MPI_WIN_NULL; }
   /// How many times reserve() has (re)allocated the window.
@@ -66,6 +77,7 @@ private:
   MPI_Win win_ = MPI_WIN_NULL;
   int rank_ = 0;
   bool on_one_node_ = false;
+  bool usable_ = true;
   int allocations_ = 0;
   std::vector<std::size_t> offset_, room_; ///< per slot, in doubles (the same on every rank)
   std::vector<double*> base_;              ///< every rank's segment, mapped into ours
