@@ -379,6 +379,13 @@ class Packing:
     def pressure(self):
         return float(np.trace(self.stress())) / self.dimension
 
+    def carrying(self, threshold=1e-4):
+        """Contacts that carry force ([AR] sec. III B): N^e > threshold x a^(dim-1) P, P the
+        file's pressure_target, else the measured pressure; distant pairs never do. Bool (nc)."""
+        p = self._param("pressure_target") or abs(self.pressure)
+        cut = threshold * self.diameter ** (self.dimension - 1) * p
+        return (self.contacts["normal_force"] > cut) & ~self.distant
+
     def rattlers(self, threshold=1e-4, min_contacts=None):
         """The iterative rattler rule of [AR] sec. III B: a contact carries force when N^e >
         threshold x a^(dim-1) P (P the file's pressure_target, else the measured pressure);
@@ -388,9 +395,7 @@ class Packing:
         if min_contacts is None:
             mu = self._param("friction")
             min_contacts = self.dimension + 1 if mu == 0 else 2
-        p = self._param("pressure_target") or abs(self.pressure)
-        cut = threshold * self.diameter ** (self.dimension - 1) * p
-        keep = (self.contacts["normal_force"] > cut) & ~self.distant
+        keep = self.carrying(threshold)
         i, j = self.i[keep], self.j[keep]
         alive = np.ones(self.n, bool)
         while True:

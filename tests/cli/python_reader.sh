@@ -194,8 +194,7 @@ check(f"contact_threshold_scan at 1e-4 a^2 P = analyze's default (x0 {x0}, z* {z
       x0 == aj["x0"] and z_star == aj["z_star"] and x2 == aj["x2"])
 x0_hi, z_hi, x2_hi = cts.backbone_counts(f"{out}/final.h5", 0.3, exe)
 r_hi = p.rattlers(threshold=0.3)
-cut = 0.3 * p.diameter ** 2 * (p._param("pressure_target") or abs(p.pressure))
-live = (p.contacts["normal_force"] > cut) & ~p.distant & ~r_hi[p.i] & ~r_hi[p.j]
+live = p.carrying(threshold=0.3) & ~r_hi[p.i] & ~r_hi[p.j]
 deg = np.bincount(p.i[live], minlength=p.n) + np.bincount(p.j[live], minlength=p.n)
 check(f"analyze --threshold 0.3 = granpack_io's rattler rule at 0.3 (x0 {x0_hi}, z* {z_hi}, "
       f"x2 {x2_hi}) and drops contacts (z* {z_star} -> {z_hi})",
