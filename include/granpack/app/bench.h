@@ -12,6 +12,8 @@
 #include <optional>
 #include <string>
 
+#include "granpack/io/deck.h"
+
 namespace granpack {
 
 struct BenchOptions {
@@ -23,8 +25,8 @@ struct BenchOptions {
   double pressure = 1e4;            ///< P of the packing (Pa), for the report only
   double time_step_fraction = 0.02; ///< dt = fraction x contact time at the typical overlap
   double skin = 0.1;                ///< Verlet skin / a
-  /// The halo's transport ([numerics] halo): "messages" or "shared_memory" (the default).
-  std::string halo = "shared_memory";
+  /// The halo's transport ([numerics] halo): "messages" or "shared_memory"; the deck's default.
+  std::string halo = NumericsSpec{}.halo;
   std::optional<std::filesystem::path> lammps_data;   ///< write the initial state here
   std::optional<std::filesystem::path> static_forces; ///< per-grain static forces (text)
   std::optional<std::filesystem::path> json;          ///< results as one JSON object
